@@ -1,0 +1,13 @@
+#pragma once
+// Subcommands of the fieldlidar tool. Each add_*_command registers one subcommand whose callback
+// does the work and throws (fieldlidar::Error or std::exception) on failure; main() reports it.
+
+#include <CLI/CLI.hpp>
+
+namespace fieldlidar::app {
+
+void add_info_command(CLI::App& app);
+void add_convert_command(CLI::App& app);
+void add_demo_command(CLI::App& app);
+
+}  // namespace fieldlidar::app

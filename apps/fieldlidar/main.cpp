@@ -1,0 +1,33 @@
+// fieldlidar: command-line tool for 3D-LiDAR perception, mapping and navigation of field robots.
+
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "fieldlidar: 3D-LiDAR perception, mapping and navigation for field robots.\n"
+      "Run without a command to see the built-in demo."};
+  app.set_version_flag("--version", std::string(FIELDLIDAR_VERSION));
+  app.require_subcommand(0, 1);
+  fieldlidar::app::add_info_command(app);
+  fieldlidar::app::add_convert_command(app);
+  fieldlidar::app::add_demo_command(app);
+
+  try {
+    if (argc == 1)
+      app.parse(std::string("demo"), false);  // the built-in default job
+    else
+      app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fieldlidar: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

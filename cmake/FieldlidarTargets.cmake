@@ -1,0 +1,48 @@
+# Helpers shared by every module's CMakeLists.txt.
+
+# Warnings and sanitizers for one of our own targets.
+function(fieldlidar_target_options target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wno-psabi)
+  if(FIELDLIDAR_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+  if(FIELDLIDAR_SANITIZE)
+    target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer
+                                             -fno-sanitize-recover=undefined)
+    target_link_options(${target} PRIVATE -fsanitize=address,undefined)
+  endif()
+endfunction()
+
+# fieldlidar_add_module(NAME SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# Defines library fieldlidar_<NAME> with alias fieldlidar::<NAME>, public headers from include/,
+# and installs it into the fieldlidarTargets export set.
+function(fieldlidar_add_module name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(fieldlidar_${name} ${ARG_SOURCES})
+  add_library(fieldlidar::${name} ALIAS fieldlidar_${name})
+  target_include_directories(fieldlidar_${name} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_link_libraries(fieldlidar_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  set_target_properties(fieldlidar_${name} PROPERTIES EXPORT_NAME ${name}
+    OUTPUT_NAME fieldlidar_${name} VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR})
+  fieldlidar_target_options(fieldlidar_${name})
+  install(TARGETS fieldlidar_${name} EXPORT fieldlidarTargets
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endfunction()
+
+# fieldlidar_add_test(NAME SOURCES ... LIBS ... [LABELS ...])
+# A GoogleTest executable whose tests are registered with CTest. Tests that read real data get
+# FIELDLIDAR_DATA_DIR as an environment variable and skip with a message when it is absent.
+function(fieldlidar_add_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS} fieldlidar_test_support GTest::gtest_main)
+  fieldlidar_target_options(${name})
+  set(labels unit ${ARG_LABELS})
+  gtest_discover_tests(${name}
+    PROPERTIES LABELS "${labels}" ENVIRONMENT "FIELDLIDAR_DATA_DIR=${FIELDLIDAR_DATA_DIR}"
+    DISCOVERY_TIMEOUT 60)
+endfunction()

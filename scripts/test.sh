@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# One command on a fresh Debian 12 machine: install dependencies, then build and run the whole test
+# suite: sanitizer build (ASan + UBSan, Debug), fuzz targets for a short budget (clang/libFuzzer),
+# the installed-package consumer example, and the Release build's tests last.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs=$(nproc)
+FUZZ_SECONDS=${FIELDLIDAR_FUZZ_SECONDS:-10}
+
+scripts/setup_deps.sh
+
+echo "== sanitizer build (Debug, ASan+UBSan) =="
+cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DFIELDLIDAR_SANITIZE=ON \
+  -DFIELDLIDAR_BUILD_BENCHMARKS=OFF -DFIELDLIDAR_WERROR=ON >/dev/null
+cmake --build build/asan -j "$jobs"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "slow|fuzz"
+
+if command -v clang++ >/dev/null; then
+  echo "== fuzz targets (clang, libFuzzer, ${FUZZ_SECONDS} s each) =="
+  CC=clang CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=Debug \
+    -DFIELDLIDAR_FUZZ=ON -DFIELDLIDAR_FUZZ_SECONDS="$FUZZ_SECONDS" -DBUILD_TESTING=ON \
+    -DFIELDLIDAR_BUILD_BENCHMARKS=OFF -DFIELDLIDAR_BUILD_APPS=OFF >/dev/null
+  cmake --build build/fuzz -j "$jobs" --target fuzz_all
+  ctest --test-dir build/fuzz --output-on-failure -L fuzz
+else
+  echo "== fuzz targets skipped: clang++ not found =="
+fi
+
+echo "== Release build =="
+scripts/build.sh
+echo "== consumer example against the installed package =="
+rm -rf build/install build/consumer
+cmake --install build/release --prefix "$PWD/build/install" >/dev/null
+cmake -S examples/consumer -B build/consumer -G Ninja -DCMAKE_PREFIX_PATH="$PWD/build/install" >/dev/null
+cmake --build build/consumer
+LD_LIBRARY_PATH="$PWD/build/install/lib" build/consumer/consumer_example
+
+echo "== Release tests =="
+ctest --test-dir build/release --output-on-failure -j "$jobs" -LE fuzz

@@ -1,0 +1,53 @@
+#include "fieldlidar/io/cloud_file.hpp"
+
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/io/kitti_bin.hpp"
+
+namespace fieldlidar::io {
+
+std::optional<CloudFormat> cloud_format_of(const std::filesystem::path& path) {
+  const auto ext = extension_of(path);
+  if (ext == "bin") return CloudFormat::kKittiBin;
+  if (ext == "pcd") return CloudFormat::kPcd;
+  if (ext == "ply") return CloudFormat::kPly;
+  if (ext == "las") return CloudFormat::kLas;
+  return std::nullopt;
+}
+
+std::string to_string(CloudFormat format) {
+  switch (format) {
+    case CloudFormat::kKittiBin: return "kitti-bin";
+    case CloudFormat::kPcd: return "pcd";
+    case CloudFormat::kPly: return "ply";
+    case CloudFormat::kLas: return "las";
+  }
+  return "unknown";
+}
+
+namespace {
+[[noreturn]] void unsupported(const std::filesystem::path& path) {
+  throw Error(path.string() + ": unsupported file type '" + path.extension().string() +
+              "' (expected .bin, .pcd, .ply or .las)");
+}
+}  // namespace
+
+PointCloud read_cloud(const std::filesystem::path& path) {
+  const auto format = cloud_format_of(path);
+  if (!format) unsupported(path);
+  switch (*format) {
+    case CloudFormat::kKittiBin: return read_kitti_bin(path);
+    default: throw Error(path.string() + ": reading " + to_string(*format) + " is not built yet");
+  }
+}
+
+void write_cloud(const std::filesystem::path& path, const PointCloud& cloud,
+                 const WriteOptions& options) {
+  const auto format = cloud_format_of(path);
+  if (!format) unsupported(path);
+  switch (*format) {
+    case CloudFormat::kKittiBin: return write_kitti_bin(path, cloud, options);
+    default: throw Error(path.string() + ": writing " + to_string(*format) + " is not built yet");
+  }
+}
+
+}  // namespace fieldlidar::io
