@@ -22,7 +22,8 @@ struct ConvertOptions {
 
 void add_convert_command(CLI::App& app) {
   auto opts = std::make_shared<ConvertOptions>();
-  auto* cmd = app.add_subcommand("convert", "Convert a LiDAR file to another format (by extension)");
+  auto* cmd =
+      app.add_subcommand("convert", "Convert a LiDAR file to another format (by extension)");
   cmd->add_option("IN", opts->input, "Input file (.bin, .pcd, .ply, .las)")->required();
   cmd->add_option("OUT", opts->output, "Output file (.bin, .pcd, .ply)")->required();
   cmd->add_flag("-f,--force", opts->force, "Replace OUT if it already exists");

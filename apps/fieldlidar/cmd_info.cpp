@@ -63,9 +63,11 @@ void print_text(const nlohmann::json& j) {
 
 void add_info_command(CLI::App& app) {
   auto opts = std::make_shared<InfoOptions>();
-  auto* cmd = app.add_subcommand("info", "Show format, frame and point counts, fields, bounds and rings of a LiDAR file");
+  auto* cmd = app.add_subcommand(
+      "info", "Show format, frame and point counts, fields, bounds and rings of a LiDAR file");
   cmd->add_option("FILE", opts->input, "Input file (.bin KITTI, .pcd, .ply, .las)")->required();
-  cmd->add_flag("--json", opts->json, "Print machine-readable JSON (keys: format, frames, points, ...)");
+  cmd->add_flag("--json", opts->json,
+                "Print machine-readable JSON (keys: format, frames, points, ...)");
   cmd->callback([opts] {
     const auto j = describe(opts->input);
     if (opts->json)

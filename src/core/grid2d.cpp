@@ -71,7 +71,8 @@ float Grid2D::at(const std::string& name, int ix, int iy) const {
   return layer(name)[geometry_.linear_index(ix, iy)];
 }
 
-std::optional<float> Grid2D::value_at(const std::string& name, const Eigen::Vector2d& world_m) const {
+std::optional<float> Grid2D::value_at(const std::string& name,
+                                      const Eigen::Vector2d& world_m) const {
   const auto cell = geometry_.cell_of(world_m);
   if (!cell) return std::nullopt;
   return at(name, cell->x(), cell->y());

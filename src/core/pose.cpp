@@ -12,8 +12,7 @@ Trajectory::Trajectory(std::vector<StampedPose> poses) {
 }
 
 void Trajectory::push_back(double stamp_s, const Pose& pose) {
-  if (!std::isfinite(stamp_s))
-    throw std::invalid_argument("Trajectory: pose time is not finite");
+  if (!std::isfinite(stamp_s)) throw std::invalid_argument("Trajectory: pose time is not finite");
   if (!poses_.empty() && stamp_s <= poses_.back().stamp_s)
     throw std::invalid_argument("Trajectory: pose time " + std::to_string(stamp_s) +
                                 " s is not after the previous " +

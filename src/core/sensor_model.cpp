@@ -37,8 +37,8 @@ std::size_t SensorModel::nearest_ring(double altitude_rad) const {
   if (it == a.end()) return a.size() - 1;
   if (it == a.begin()) return 0;
   auto prev = std::prev(it);
-  return static_cast<std::size_t>(
-      (altitude_rad - *prev < *it - altitude_rad ? prev : it) - a.begin());
+  return static_cast<std::size_t>((altitude_rad - *prev < *it - altitude_rad ? prev : it) -
+                                  a.begin());
 }
 
 void SensorModel::validate() const {
@@ -49,21 +49,25 @@ void SensorModel::validate() const {
   if (!std::is_sorted(beam_altitudes_rad.begin(), beam_altitudes_rad.end()))
     fail("beam_altitudes_rad must be ascending (ring 0 = lowest beam)");
   for (double a : beam_altitudes_rad)
-    if (!std::isfinite(a) || std::abs(a) > std::numbers::pi / 2) fail("a beam altitude is not in [-pi/2, pi/2]");
+    if (!std::isfinite(a) || std::abs(a) > std::numbers::pi / 2)
+      fail("a beam altitude is not in [-pi/2, pi/2]");
   if (!beam_azimuth_offsets_rad.empty() && beam_azimuth_offsets_rad.size() != rings())
     fail("beam_azimuth_offsets_rad must be empty or have one entry per ring");
-  if (columns < 1 || columns > 1 << 20) fail("columns = " + std::to_string(columns) + " is out of range");
+  if (columns < 1 || columns > 1 << 20)
+    fail("columns = " + std::to_string(columns) + " is out of range");
   if (!(horizontal_fov_rad > 0 && horizontal_fov_rad <= 2 * std::numbers::pi + 1e-9))
     fail("horizontal_fov_rad must be in (0, 2*pi]");
-  if (!(rotation_rate_hz > 0 && rotation_rate_hz < 1000)) fail("rotation_rate_hz must be in (0, 1000)");
+  if (!(rotation_rate_hz > 0 && rotation_rate_hz < 1000))
+    fail("rotation_rate_hz must be in (0, 1000)");
   if (!(min_range_m >= 0 && max_range_m > min_range_m && std::isfinite(max_range_m)))
     fail("need 0 <= min_range_m < max_range_m < inf");
-  if (!(range_accuracy_m >= 0) || !std::isfinite(range_accuracy_m)) fail("range_accuracy_m must be >= 0");
+  if (!(range_accuracy_m >= 0) || !std::isfinite(range_accuracy_m))
+    fail("range_accuracy_m must be >= 0");
 }
 
 SensorModel SensorModel::from_beam_angles(std::string name, std::vector<double> altitudes_rad,
-                                          int columns, double rotation_rate_hz,
-                                          double min_range_m, double max_range_m) {
+                                          int columns, double rotation_rate_hz, double min_range_m,
+                                          double max_range_m) {
   SensorModel m;
   m.name = std::move(name);
   std::sort(altitudes_rad.begin(), altitudes_rad.end());
@@ -85,10 +89,10 @@ SensorModel SensorModel::vlp16() {
 
 SensorModel SensorModel::vlp32c() {
   // Velodyne VLP-32C (Ultra Puck) published elevation table, non-uniform, -25..+15 deg.
-  std::vector<double> deg = {-25,     -1,     -1.667, -15.639, -11.31, 0,      -0.667, -8.843,
-                             -7.254,  0.333,  -0.333, -6.148,  -5.333, 1.333,  0.667,  -4,
-                             -4.667,  1.667,  1,      -3.667,  -3.333, 3.333,  2.333,  -2.667,
-                             -3,      7,      4.667,  -2.333,  -2,     15,     10.333, -1.333};
+  std::vector<double> deg = {-25,    -1,    -1.667, -15.639, -11.31, 0,     -0.667, -8.843,
+                             -7.254, 0.333, -0.333, -6.148,  -5.333, 1.333, 0.667,  -4,
+                             -4.667, 1.667, 1,      -3.667,  -3.333, 3.333, 2.333,  -2.667,
+                             -3,     7,     4.667,  -2.333,  -2,     15,    10.333, -1.333};
   for (auto& d : deg) d *= kDeg;
   auto m = from_beam_angles("vlp32c", deg, 1800, 10.0, 0.4, 200.0);
   m.range_accuracy_m = 0.03;

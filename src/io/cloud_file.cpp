@@ -16,10 +16,14 @@ std::optional<CloudFormat> cloud_format_of(const std::filesystem::path& path) {
 
 std::string to_string(CloudFormat format) {
   switch (format) {
-    case CloudFormat::kKittiBin: return "kitti-bin";
-    case CloudFormat::kPcd: return "pcd";
-    case CloudFormat::kPly: return "ply";
-    case CloudFormat::kLas: return "las";
+    case CloudFormat::kKittiBin:
+      return "kitti-bin";
+    case CloudFormat::kPcd:
+      return "pcd";
+    case CloudFormat::kPly:
+      return "ply";
+    case CloudFormat::kLas:
+      return "las";
   }
   return "unknown";
 }
@@ -35,8 +39,10 @@ PointCloud read_cloud(const std::filesystem::path& path) {
   const auto format = cloud_format_of(path);
   if (!format) unsupported(path);
   switch (*format) {
-    case CloudFormat::kKittiBin: return read_kitti_bin(path);
-    default: throw Error(path.string() + ": reading " + to_string(*format) + " is not built yet");
+    case CloudFormat::kKittiBin:
+      return read_kitti_bin(path);
+    default:
+      throw Error(path.string() + ": reading " + to_string(*format) + " is not built yet");
   }
 }
 
@@ -45,8 +51,10 @@ void write_cloud(const std::filesystem::path& path, const PointCloud& cloud,
   const auto format = cloud_format_of(path);
   if (!format) unsupported(path);
   switch (*format) {
-    case CloudFormat::kKittiBin: return write_kitti_bin(path, cloud, options);
-    default: throw Error(path.string() + ": writing " + to_string(*format) + " is not built yet");
+    case CloudFormat::kKittiBin:
+      return write_kitti_bin(path, cloud, options);
+    default:
+      throw Error(path.string() + ": writing " + to_string(*format) + " is not built yet");
   }
 }
 

@@ -1,11 +1,11 @@
 #include "fieldlidar/io/file_util.hpp"
 
+#include <unistd.h>
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <fstream>
 #include <system_error>
-#include <unistd.h>
 
 #include "fieldlidar/core/error.hpp"
 
@@ -13,8 +13,7 @@ namespace fieldlidar::io {
 
 std::vector<std::byte> read_file_bytes(const std::filesystem::path& path) {
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec))
-    throw Error(path.string() + ": no such file");
+  if (!std::filesystem::exists(path, ec)) throw Error(path.string() + ": no such file");
   if (std::filesystem::is_directory(path, ec))
     throw Error(path.string() + ": is a folder, expected a file");
   std::ifstream in(path, std::ios::binary);

@@ -8,7 +8,9 @@
 using namespace fieldlidar;
 
 namespace {
-double deg(double rad) { return rad * 180.0 / std::numbers::pi; }
+double deg(double rad) {
+  return rad * 180.0 / std::numbers::pi;
+}
 }  // namespace
 
 TEST(SensorModel, PresetBeamTablesMatchDataSheets) {

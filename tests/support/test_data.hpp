@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-namespace fieldlidar::testing {
+namespace fieldlidar::test {
 
 /// The real-data folder: $FIELDLIDAR_DATA_DIR (set by CTest), else ../shared/data.
 inline std::filesystem::path data_dir() {
@@ -21,19 +21,20 @@ inline std::filesystem::path data_file(const std::string& relative) {
 
 /// A fresh empty temporary folder for one test.
 inline std::filesystem::path temp_dir(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("fieldlidar_test_" + name + "_" +
-                                                       std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  auto dir = std::filesystem::temp_directory_path() /
+             ("fieldlidar_test_" + name + "_" +
+              std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
 }
 
-}  // namespace fieldlidar::testing
+}  // namespace fieldlidar::test
 
 /// Skips the current test, saying which file is missing, when real data is not there.
-#define FIELDLIDAR_REQUIRE_DATA(relative)                                                   \
-  do {                                                                                      \
-    if (!std::filesystem::exists(::fieldlidar::testing::data_file(relative)))               \
-      GTEST_SKIP() << "real data file " << ::fieldlidar::testing::data_file(relative)       \
-                   << " is absent (set FIELDLIDAR_DATA_DIR to the shared/data folder)";     \
+#define FIELDLIDAR_REQUIRE_DATA(relative)                                               \
+  do {                                                                                  \
+    if (!std::filesystem::exists(::fieldlidar::test::data_file(relative)))              \
+      GTEST_SKIP() << "real data file " << ::fieldlidar::test::data_file(relative)      \
+                   << " is absent (set FIELDLIDAR_DATA_DIR to the shared/data folder)"; \
   } while (0)

@@ -17,8 +17,8 @@ namespace fieldlidar {
 struct GridGeometry {
   double resolution_m = 0.1;
   Eigen::Vector2d origin_m = Eigen::Vector2d::Zero();  ///< world position of cell (0,0)'s corner
-  int width = 0;                                        ///< cells along x
-  int height = 0;                                       ///< cells along y
+  int width = 0;                                       ///< cells along x
+  int height = 0;                                      ///< cells along y
 
   std::size_t cell_count() const { return std::size_t(width) * std::size_t(height); }
   /// Cell containing a world point, nullopt when outside.

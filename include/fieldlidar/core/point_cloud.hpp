@@ -46,10 +46,10 @@ struct PointFields {
 struct PointCloud {
   std::vector<Point> points;
   std::vector<std::uint32_t> labels;
-  PointFields fields;           ///< which optional fields are filled
-  double stamp_s = 0.0;         ///< s, sweep start time (sensor or bag clock)
-  std::uint32_t width = 0;      ///< points per row when organized, else size()
-  std::uint32_t height = 1;     ///< rows when organized, else 1
+  PointFields fields;        ///< which optional fields are filled
+  double stamp_s = 0.0;      ///< s, sweep start time (sensor or bag clock)
+  std::uint32_t width = 0;   ///< points per row when organized, else size()
+  std::uint32_t height = 1;  ///< rows when organized, else 1
 
   std::size_t size() const { return points.size(); }
   bool empty() const { return points.empty(); }

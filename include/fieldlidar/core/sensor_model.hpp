@@ -17,11 +17,11 @@ struct SensorModel {
 
   std::string name;
   Kind kind = Kind::kSpinning;
-  std::vector<double> beam_altitudes_rad;         ///< per ring, ascending
-  std::vector<double> beam_azimuth_offsets_rad;   ///< per ring, added to the column azimuth
-  int columns = 1800;                 ///< horizontal samples per revolution (or per 2D scan)
+  std::vector<double> beam_altitudes_rad;        ///< per ring, ascending
+  std::vector<double> beam_azimuth_offsets_rad;  ///< per ring, added to the column azimuth
+  int columns = 1800;  ///< horizontal samples per revolution (or per 2D scan)
   double horizontal_fov_rad = 6.283185307179586;  ///< 2*pi for a full spin
-  double rotation_rate_hz = 10.0;     ///< sweeps per second (tilt cycles for kTilting2D)
+  double rotation_rate_hz = 10.0;  ///< sweeps per second (tilt cycles for kTilting2D)
   double min_range_m = 0.5;
   double max_range_m = 100.0;
   double range_accuracy_m = 0.02;     ///< 1-sigma range noise from the data sheet

@@ -25,9 +25,9 @@ void write_file_atomic(const std::filesystem::path& path, const void* data, std:
 
 /// Options shared by all writers.
 struct WriteOptions {
-  bool overwrite = false;  ///< replace an existing file
-  bool binary = true;      ///< binary encoding where the format has a choice (PCD, PLY)
-  bool compressed = false; ///< PCD binary_compressed
+  bool overwrite = false;   ///< replace an existing file
+  bool binary = true;       ///< binary encoding where the format has a choice (PCD, PLY)
+  bool compressed = false;  ///< PCD binary_compressed
 };
 
 }  // namespace fieldlidar::io
