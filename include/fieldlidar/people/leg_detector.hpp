@@ -1,0 +1,123 @@
+#pragma once
+/// \file Leg and person detection from LiDAR rings (seed 000, steps 2-3).
+///
+/// A leg seen by one ring of a LiDAR is an arc: the seed projects a cluster's points of ring i onto
+/// that ring's plane and computes the path length L_k over the points in scan order, the chord D_k
+/// between the first and the last point and the bend Curve = L_k / D_k. The arc is a leg arc when
+/// `Curve < delta_c` and `L_min < L_k < L_max`; a cluster is a candidate leg when this holds on
+/// several rings. Two candidate legs closer than `dist_max` form a person, located at the mean of
+/// the arc midpoints. All positions are in the frame of the input points (usually the sensor
+/// frame), x-y plane, metres.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/core/point_cloud.hpp"
+
+namespace fieldlidar::people {
+
+/// The "learned feature library" of the seed plus the switchable additions.
+///
+/// The seed's own bounds are the first block; defaults were estimated by `fieldlidar legs-train`
+/// on the annotated 2D scans of ../shared/data/legs_2d (see config/legs_default.yaml). The
+/// additions (second block) are off when their `use_` flag is false, so that the seed's method can
+/// be measured alone.
+struct LegDetectorConfig {
+  // --- seed 000 ---
+  double curve_max = 1.9;             ///< delta_c: an arc is a leg when L_k / D_k < delta_c
+  double path_min_m = 0.05;           ///< L_min: lower bound of the path length L_k (m)
+  double path_max_m = 0.45;           ///< L_max: upper bound of the path length L_k (m)
+  double pair_distance_max_m = 0.60;  ///< dist_max: two legs closer than this form a person (m)
+  double range_min_m = 0.3;           ///< S_s: clusters nearer than this are dropped (m, x-y)
+  double range_max_m = 15.0;          ///< S_m: clusters farther than this are dropped (m, x-y)
+  int min_rings = 2;  ///< "checked on several rings": a 3D leg needs this many leg arcs
+  // --- ring segmentation (2D scans and the rings of a 3D cluster) ---
+  double segment_jump_m = 0.13;      ///< consecutive points farther apart start a new segment (m)
+  double leg_merge_radius_m = 0.15;  ///< arcs of different rings within this form one leg (m)
+  // --- additions beyond the seed (switchable) ---
+  bool use_min_points = false;
+  int min_points = 4;  ///< an arc needs at least this many points
+  bool use_chord_max = false;
+  double chord_max_m = 0.25;  ///< D_k above this is wider than a leg (m)
+  bool use_circle_fit = false;
+  double radius_min_m = 0.02;  ///< circle fitted to the arc: radius bounds (m)
+  double radius_max_m = 0.15;
+  double circle_rms_max_m = 0.02;  ///< rms distance of the arc points to the fitted circle (m)
+  bool use_curve_min = false;
+  double curve_min = 1.02;  ///< reject nearly straight arcs (walls, fences): L_k / D_k > this
+};
+
+/// Shape of one arc (one ring's points of one segment, in scan order).
+struct ArcFeatures {
+  std::size_t points = 0;
+  double path_m = 0;                                     ///< L_k
+  double chord_m = 0;                                    ///< D_k
+  double curve = 0;                                      ///< L_k / D_k (infinite when D_k = 0)
+  Eigen::Vector2d midpoint_m = Eigen::Vector2d::Zero();  ///< mean of the arc's points
+  double circle_radius_m = 0;  ///< least-squares circle (0 when fewer than 3 points)
+  double circle_rms_m = 0;
+  Eigen::Vector2d circle_center_m = Eigen::Vector2d::Zero();
+};
+
+/// Seed 000, step 3, formulas 1)-2): L_k, D_k, Curve of ordered points; plus a circle fit.
+ArcFeatures compute_arc_features(std::span<const Eigen::Vector2d> ordered_points);
+
+/// Splits points in scan order into segments wherever two consecutive points are farther apart
+/// than `jump_m`; returns [begin, end) index pairs.
+std::vector<std::pair<std::size_t, std::size_t>> split_by_jump(
+    std::span<const Eigen::Vector2d> ordered_points, double jump_m);
+
+/// Why an arc was or was not accepted (first failed test), for evaluation and training.
+enum class ArcVerdict : std::uint8_t {
+  kLeg,
+  kTooFewPoints,
+  kCurve,
+  kPathLength,
+  kChord,
+  kCircle,
+  kStraight,
+};
+ArcVerdict classify_arc(const ArcFeatures& arc, const LegDetectorConfig& config);
+
+struct Leg {
+  Eigen::Vector2d position_m = Eigen::Vector2d::Zero();  ///< mean of the arc midpoints
+  int rings = 0;                                         ///< rings on which an arc passed
+  std::int32_t cluster = -1;  ///< index of the cluster (3D) or segment (2D) it came from
+};
+
+struct Person {
+  Eigen::Vector2d position_m = Eigen::Vector2d::Zero();  ///< mean of the two legs' positions
+  std::array<std::size_t, 2> legs{};                     ///< indices into LegDetection::legs
+};
+
+struct LegDetection {
+  std::vector<Leg> legs;
+  std::vector<Person> people;
+  std::size_t arcs_tested = 0;
+};
+
+/// 2D path: one ring of ordered points (a LaserScan in beam order). Segments are split by jump
+/// distance, each segment is one arc; every accepted arc is a leg (one ring: min_rings is not
+/// applied). Points outside [range_min_m, range_max_m] are ignored.
+LegDetection detect_legs_2d(std::span<const Eigen::Vector2d> ordered_points,
+                            const LegDetectorConfig& config);
+
+/// 3D path (seed 000, step 3): for each cluster (point indices into `cloud`, e.g. from
+/// segmentation) within the range S, for each ring, the cluster's points of that ring are put in
+/// azimuth order, split by jump distance, and every piece is tested as an arc; passing arcs of
+/// different rings within `leg_merge_radius_m` are one leg, kept when it has `min_rings` arcs.
+LegDetection detect_legs_3d(const PointCloud& cloud,
+                            std::span<const std::vector<std::uint32_t>> clusters,
+                            const LegDetectorConfig& config);
+
+/// Seed 000, step 3, last part: pairs legs closer than dist_max into people (closest pairs first,
+/// each leg used once); fills `detection.people`.
+void pair_legs(LegDetection& detection, const LegDetectorConfig& config);
+
+}  // namespace fieldlidar::people

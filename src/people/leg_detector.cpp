@@ -1,0 +1,218 @@
+#include "fieldlidar/people/leg_detector.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include <Eigen/Dense>
+
+namespace fieldlidar::people {
+
+namespace {
+
+/// Algebraic (Kasa) circle fit: x^2 + y^2 + a x + b y + c = 0 in least squares, centred on the
+/// points' mean for conditioning. Returns false when the points are (nearly) collinear.
+bool fit_circle(std::span<const Eigen::Vector2d> pts, Eigen::Vector2d& center, double& radius,
+                double& rms) {
+  if (pts.size() < 3) return false;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : pts) mean += p;
+  mean /= double(pts.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const auto& p : pts) scatter += (p - mean) * (p - mean).transpose();
+  const Eigen::Vector2d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvalues();
+  if (!(ev[0] > 1e-12 * ev[1])) return false;  // collinear: no finite circle
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+  for (const auto& p0 : pts) {
+    const Eigen::Vector2d p = p0 - mean;
+    const Eigen::Vector3d row(p.x(), p.y(), 1.0);
+    ata += row * row.transpose();
+    atb += row * (-p.squaredNorm());
+  }
+  const Eigen::Vector3d sol = ata.ldlt().solve(atb);
+  if (!sol.allFinite()) return false;
+  const Eigen::Vector2d c(-sol.x() / 2, -sol.y() / 2);
+  const double r2 = c.squaredNorm() - sol.z();
+  if (!(r2 > 0) || !std::isfinite(r2)) return false;
+  radius = std::sqrt(r2);
+  center = c + mean;
+  double sum = 0;
+  for (const auto& p : pts) {
+    const double d = (p - center).norm() - radius;
+    sum += d * d;
+  }
+  rms = std::sqrt(sum / double(pts.size()));
+  return true;
+}
+
+}  // namespace
+
+ArcFeatures compute_arc_features(std::span<const Eigen::Vector2d> pts) {
+  ArcFeatures f;
+  f.points = pts.size();
+  if (pts.empty()) return f;
+  // seed 000, step 3, formula 1): path length over consecutive points and chord first-to-last
+  for (std::size_t j = 0; j + 1 < pts.size(); ++j) f.path_m += (pts[j + 1] - pts[j]).norm();
+  f.chord_m = (pts.back() - pts.front()).norm();
+  // formula 2): the bend
+  f.curve = f.chord_m > 0 ? f.path_m / f.chord_m : std::numeric_limits<double>::infinity();
+  for (const auto& p : pts) f.midpoint_m += p;
+  f.midpoint_m /= double(pts.size());
+  if (!fit_circle(pts, f.circle_center_m, f.circle_radius_m, f.circle_rms_m)) {
+    f.circle_radius_m = std::numeric_limits<double>::infinity();
+    f.circle_rms_m = std::numeric_limits<double>::infinity();
+  }
+  return f;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> split_by_jump(std::span<const Eigen::Vector2d> pts,
+                                                               double jump_m) {
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  std::size_t begin = 0;
+  for (std::size_t j = 1; j <= pts.size(); ++j) {
+    if (j == pts.size() || (pts[j] - pts[j - 1]).norm() > jump_m) {
+      if (j > begin) out.emplace_back(begin, j);
+      begin = j;
+    }
+  }
+  return out;
+}
+
+ArcVerdict classify_arc(const ArcFeatures& arc, const LegDetectorConfig& c) {
+  if (c.use_min_points && arc.points < std::size_t(std::max(c.min_points, 0)))
+    return ArcVerdict::kTooFewPoints;
+  // seed 000, step 3, formula 3): Curve < delta_c and L_min < L_k < L_max
+  if (!(arc.curve < c.curve_max)) return ArcVerdict::kCurve;
+  if (!(arc.path_m > c.path_min_m && arc.path_m < c.path_max_m)) return ArcVerdict::kPathLength;
+  if (c.use_chord_max && arc.chord_m > c.chord_max_m) return ArcVerdict::kChord;
+  if (c.use_curve_min && arc.curve <= c.curve_min) return ArcVerdict::kStraight;
+  if (c.use_circle_fit &&
+      !(arc.circle_radius_m >= c.radius_min_m && arc.circle_radius_m <= c.radius_max_m &&
+        arc.circle_rms_m <= c.circle_rms_max_m))
+    return ArcVerdict::kCircle;
+  return ArcVerdict::kLeg;
+}
+
+LegDetection detect_legs_2d(std::span<const Eigen::Vector2d> ordered_points,
+                            const LegDetectorConfig& config) {
+  LegDetection out;
+  std::vector<Eigen::Vector2d> pts;
+  pts.reserve(ordered_points.size());
+  for (const auto& p : ordered_points) {
+    const double r = p.norm();
+    if (p.allFinite() && r >= config.range_min_m && r <= config.range_max_m) pts.push_back(p);
+  }
+  const auto segments = split_by_jump(pts, config.segment_jump_m);
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    const auto [b, e] = segments[s];
+    const auto arc = compute_arc_features(std::span(pts).subspan(b, e - b));
+    ++out.arcs_tested;
+    if (classify_arc(arc, config) == ArcVerdict::kLeg)
+      out.legs.push_back({arc.midpoint_m, 1, std::int32_t(s)});
+  }
+  pair_legs(out, config);
+  return out;
+}
+
+LegDetection detect_legs_3d(const PointCloud& cloud,
+                            std::span<const std::vector<std::uint32_t>> clusters,
+                            const LegDetectorConfig& config) {
+  LegDetection out;
+  std::vector<std::pair<double, std::uint32_t>> by_azimuth;
+  std::vector<Eigen::Vector2d> ring_pts;
+  struct Group {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    int arcs = 0;
+    std::vector<std::uint16_t> rings;
+    Eigen::Vector2d mean() const { return sum / double(arcs); }
+  };
+  std::vector<Group> groups;
+  for (std::size_t k = 0; k < clusters.size(); ++k) {
+    const auto& idx = clusters[k];
+    if (idx.empty()) continue;
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    for (auto i : idx) centroid += Eigen::Vector2d(cloud.points[i].x, cloud.points[i].y);
+    centroid /= double(idx.size());
+    const double range = centroid.norm();
+    if (range < config.range_min_m || range > config.range_max_m) continue;  // range S
+    // Azimuth relative to the centroid's direction, so that clusters across +-pi sort correctly.
+    const double az0 = std::atan2(centroid.y(), centroid.x());
+    by_azimuth.clear();
+    for (auto i : idx) {
+      const auto& p = cloud.points[i];
+      double a = std::atan2(double(p.y), double(p.x)) - az0;
+      a = std::remainder(a, 2 * M_PI);
+      by_azimuth.emplace_back(a, i);
+    }
+    // Group by ring, then azimuth order within the ring.
+    std::sort(by_azimuth.begin(), by_azimuth.end(), [&](const auto& a, const auto& b) {
+      const auto ra = cloud.points[a.second].ring, rb = cloud.points[b.second].ring;
+      return ra != rb ? ra < rb : a.first < b.first;
+    });
+    groups.clear();
+    for (std::size_t s = 0; s < by_azimuth.size();) {
+      const auto ring = cloud.points[by_azimuth[s].second].ring;
+      std::size_t e = s;
+      ring_pts.clear();
+      while (e < by_azimuth.size() && cloud.points[by_azimuth[e].second].ring == ring) {
+        const auto& p = cloud.points[by_azimuth[e].second];
+        ring_pts.emplace_back(p.x, p.y);  // projection onto the ring's plane
+        ++e;
+      }
+      s = e;
+      for (const auto& [b, en] : split_by_jump(ring_pts, config.segment_jump_m)) {
+        const auto arc = compute_arc_features(std::span(ring_pts).subspan(b, en - b));
+        ++out.arcs_tested;
+        if (classify_arc(arc, config) != ArcVerdict::kLeg) continue;
+        Group* best = nullptr;
+        double best_d = config.leg_merge_radius_m;
+        for (auto& g : groups) {
+          const double d = (g.mean() - arc.midpoint_m).norm();
+          if (d <= best_d && std::find(g.rings.begin(), g.rings.end(), ring) == g.rings.end()) {
+            best = &g;
+            best_d = d;
+          }
+        }
+        if (!best) {
+          groups.emplace_back();
+          best = &groups.back();
+        }
+        best->sum += arc.midpoint_m;
+        ++best->arcs;
+        best->rings.push_back(ring);
+      }
+    }
+    for (const auto& g : groups)
+      if (g.arcs >= std::max(config.min_rings, 1))
+        out.legs.push_back({g.mean(), g.arcs, std::int32_t(k)});
+  }
+  pair_legs(out, config);
+  return out;
+}
+
+void pair_legs(LegDetection& detection, const LegDetectorConfig& config) {
+  detection.people.clear();
+  const auto& legs = detection.legs;
+  struct Candidate {
+    double d;
+    std::size_t a, b;
+  };
+  std::vector<Candidate> candidates;
+  for (std::size_t a = 0; a < legs.size(); ++a)
+    for (std::size_t b = a + 1; b < legs.size(); ++b) {
+      const double d = (legs[a].position_m - legs[b].position_m).norm();
+      if (d < config.pair_distance_max_m) candidates.push_back({d, a, b});
+    }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& x, const Candidate& y) { return x.d < y.d; });
+  std::vector<bool> used(legs.size(), false);
+  for (const auto& c : candidates) {
+    if (used[c.a] || used[c.b]) continue;
+    used[c.a] = used[c.b] = true;
+    detection.people.push_back({0.5 * (legs[c.a].position_m + legs[c.b].position_m), {c.a, c.b}});
+  }
+}
+
+}  // namespace fieldlidar::people
