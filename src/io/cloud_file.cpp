@@ -2,6 +2,9 @@
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/kitti_bin.hpp"
+#include "fieldlidar/io/las.hpp"
+#include "fieldlidar/io/pcd.hpp"
+#include "fieldlidar/io/ply.hpp"
 
 namespace fieldlidar::io {
 
@@ -10,7 +13,8 @@ std::optional<CloudFormat> cloud_format_of(const std::filesystem::path& path) {
   if (ext == "bin") return CloudFormat::kKittiBin;
   if (ext == "pcd") return CloudFormat::kPcd;
   if (ext == "ply") return CloudFormat::kPly;
-  if (ext == "las") return CloudFormat::kLas;
+  // .laz maps to LAS so that reading it gives the "decompress it first" error, not "unknown type".
+  if (ext == "las" || ext == "laz") return CloudFormat::kLas;
   return std::nullopt;
 }
 
@@ -41,9 +45,14 @@ PointCloud read_cloud(const std::filesystem::path& path) {
   switch (*format) {
     case CloudFormat::kKittiBin:
       return read_kitti_bin(path);
-    default:
-      throw Error(path.string() + ": reading " + to_string(*format) + " is not built yet");
+    case CloudFormat::kPcd:
+      return read_pcd(path);
+    case CloudFormat::kPly:
+      return read_ply(path);
+    case CloudFormat::kLas:
+      return read_las(path).cloud;
   }
+  unsupported(path);
 }
 
 void write_cloud(const std::filesystem::path& path, const PointCloud& cloud,
@@ -53,9 +62,14 @@ void write_cloud(const std::filesystem::path& path, const PointCloud& cloud,
   switch (*format) {
     case CloudFormat::kKittiBin:
       return write_kitti_bin(path, cloud, options);
-    default:
-      throw Error(path.string() + ": writing " + to_string(*format) + " is not built yet");
+    case CloudFormat::kPcd:
+      return write_pcd(path, cloud, options);
+    case CloudFormat::kPly:
+      return write_ply(path, cloud, options);
+    case CloudFormat::kLas:
+      throw Error(path.string() + ": writing LAS is not supported (write .pcd, .ply or .bin)");
   }
+  unsupported(path);
 }
 
 }  // namespace fieldlidar::io

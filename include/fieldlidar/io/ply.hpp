@@ -1,0 +1,21 @@
+#pragma once
+/// \file PLY point clouds (vertex element only): ascii and binary, read and write, via PCL.
+
+#include <filesystem>
+
+#include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/io/file_util.hpp"
+
+namespace fieldlidar::io {
+
+/// Reads the vertex element of a PLY file: x y z (required), intensity (also `scalar_intensity`),
+/// ring, label, time offsets or an absolute timestamp, mapped as for PCD. The header is checked
+/// against the file size before PCL's PLYReader decodes it. Throws fieldlidar::Error naming the
+/// file for a missing file, a wrong magic, a malformed or truncated file, or NaN coordinates.
+PointCloud read_ply(const std::filesystem::path& path);
+
+/// Writes the cloud as PLY vertices (binary little-endian unless options.binary is false).
+void write_ply(const std::filesystem::path& path, const PointCloud& cloud,
+               const WriteOptions& options = {});
+
+}  // namespace fieldlidar::io

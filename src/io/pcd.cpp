@@ -1,0 +1,416 @@
+#include "fieldlidar/io/pcd.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <string_view>
+#include <vector>
+
+#include <pcl/io/pcd_io.h>
+
+#include "fieldlidar/core/error.hpp"
+#include "pcl_fields.hpp"
+
+namespace fieldlidar::io {
+
+namespace {
+
+using Field = pcl::PCLPointField;
+
+// Bounds that no real scan reaches; they keep a corrupt header from asking for absurd memory.
+constexpr std::size_t kMaxHeaderBytes = 1 << 16;
+constexpr std::uint64_t kMaxPointStep = 1 << 16;
+
+struct PcdHeader {
+  std::vector<std::string> names;
+  std::vector<unsigned> sizes;
+  std::vector<char> types;
+  std::vector<unsigned> counts;
+  std::uint64_t width = 0, height = 0, points = 0;
+  bool has_width = false, has_height = false, has_points = false;
+  int data_type = -1;  ///< 0 ascii, 1 binary, 2 binary_compressed
+  std::size_t data_offset = 0;
+  std::uint64_t point_step = 0;
+};
+
+[[noreturn]] void fail(const std::string& source, const std::string& what) {
+  throw Error(source + ": PCD " + what);
+}
+
+std::vector<std::string_view> split(std::string_view line) {
+  std::vector<std::string_view> out;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    std::size_t j = i;
+    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
+    if (j > i) out.push_back(line.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+std::uint64_t to_uint(std::string_view s, const std::string& source, std::string_view what) {
+  std::uint64_t v = 0;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || ptr != s.data() + s.size())
+    fail(source, "header: " + std::string(what) + " value '" + std::string(s) +
+                     "' is not a non-negative integer");
+  return v;
+}
+
+std::uint8_t pcl_type(char type, unsigned size) {
+  switch (type) {
+    case 'F':
+      return size == 4 ? Field::FLOAT32 : size == 8 ? Field::FLOAT64 : 0;
+    case 'I':
+      return size == 1   ? Field::INT8
+             : size == 2 ? Field::INT16
+             : size == 4 ? Field::INT32
+             : size == 8 ? Field::INT64
+                         : 0;
+    case 'U':
+      return size == 1   ? Field::UINT8
+             : size == 2 ? Field::UINT16
+             : size == 4 ? Field::UINT32
+             : size == 8 ? Field::UINT64
+                         : 0;
+    default:
+      return 0;
+  }
+}
+
+PcdHeader parse_header(std::span<const std::byte> bytes, const std::string& source) {
+  const std::string_view text(reinterpret_cast<const char*>(bytes.data()),
+                              std::min(bytes.size(), kMaxHeaderBytes));
+  if (bytes.empty()) fail(source, "file is empty");
+  PcdHeader h;
+  std::size_t pos = 0;
+  bool seen_fields = false;
+  while (h.data_type < 0) {
+    if (pos >= text.size()) fail(source, "header has no DATA line (truncated, or not a PCD file)");
+    const auto eol = text.find('\n', pos);
+    if (eol == std::string_view::npos)
+      fail(source, "header has no DATA line (truncated, or not a PCD file)");
+    const auto line = text.substr(pos, eol - pos);
+    pos = eol + 1;
+    const auto tok = split(line);
+    if (tok.empty() || tok[0][0] == '#') continue;
+    const std::string_view key = tok[0];
+    const std::size_t nvals = tok.size() - 1;
+    auto need_fields = [&] {
+      if (!seen_fields) fail(source, "header: " + std::string(key) + " before FIELDS");
+      if (nvals != h.names.size())
+        fail(source, "header: " + std::string(key) + " has " + std::to_string(nvals) +
+                         " entries for " + std::to_string(h.names.size()) + " fields");
+    };
+    if (key == "VERSION") {
+      continue;
+    } else if (key == "FIELDS" || key == "COLUMNS") {
+      if (nvals == 0) fail(source, "header: FIELDS is empty");
+      seen_fields = true;
+      h.names.assign(tok.begin() + 1, tok.end());
+      h.sizes.assign(nvals, 4);
+      h.types.assign(nvals, 'F');
+      h.counts.assign(nvals, 1);
+    } else if (key == "SIZE") {
+      need_fields();
+      for (std::size_t i = 0; i < nvals; ++i)
+        h.sizes[i] =
+            static_cast<unsigned>(std::min<std::uint64_t>(to_uint(tok[i + 1], source, key), 64));
+    } else if (key == "TYPE") {
+      need_fields();
+      for (std::size_t i = 0; i < nvals; ++i) {
+        if (tok[i + 1].size() != 1) fail(source, "header: TYPE '" + std::string(tok[i + 1]) + "'");
+        h.types[i] = tok[i + 1][0];
+      }
+    } else if (key == "COUNT") {
+      need_fields();
+      for (std::size_t i = 0; i < nvals; ++i) {
+        const auto c = to_uint(tok[i + 1], source, key);
+        if (c < 1 || c > kMaxPointStep)
+          fail(source, "header: COUNT " + std::to_string(c) + " of field '" + h.names[i] + "'");
+        h.counts[i] = static_cast<unsigned>(c);
+      }
+    } else if (key == "WIDTH" && nvals == 1) {
+      h.width = to_uint(tok[1], source, key);
+      h.has_width = true;
+    } else if (key == "HEIGHT" && nvals == 1) {
+      h.height = to_uint(tok[1], source, key);
+      h.has_height = true;
+    } else if (key == "POINTS" && nvals == 1) {
+      h.points = to_uint(tok[1], source, key);
+      h.has_points = true;
+    } else if (key == "VIEWPOINT") {
+      continue;
+    } else if (key == "DATA" && nvals == 1) {
+      if (tok[1] == "ascii")
+        h.data_type = 0;
+      else if (tok[1] == "binary")
+        h.data_type = 1;
+      else if (tok[1] == "binary_compressed")
+        h.data_type = 2;
+      else
+        fail(source, "header: DATA '" + std::string(tok[1]) +
+                         "' is not ascii, binary or binary_compressed");
+      h.data_offset = pos;
+    } else {
+      fail(source, "header: unexpected line '" +
+                       std::string(line.substr(0, std::min<std::size_t>(line.size(), 40))) +
+                       "' (not a PCD file?)");
+    }
+  }
+  if (!seen_fields) fail(source, "header has no FIELDS line");
+  for (std::size_t i = 0; i < h.names.size(); ++i) {
+    if (pcl_type(h.types[i], h.sizes[i]) == 0)
+      fail(source, "header: field '" + h.names[i] + "' has TYPE " + h.types[i] + " with SIZE " +
+                       std::to_string(h.sizes[i]));
+    h.point_step += std::uint64_t(h.sizes[i]) * h.counts[i];
+  }
+  if (h.point_step > kMaxPointStep) fail(source, "header: point size is absurdly large");
+  if (!h.has_height) h.height = 1;
+  if (!h.has_width) h.width = h.height ? h.points / h.height : 0;
+  if (!h.has_points) h.points = h.width * h.height;
+  if (h.width > UINT32_MAX || h.height > UINT32_MAX || h.width * h.height != h.points)
+    fail(source, "header: WIDTH " + std::to_string(h.width) + " x HEIGHT " +
+                     std::to_string(h.height) + " != POINTS " + std::to_string(h.points));
+  return h;
+}
+
+std::uint32_t get_u32(std::span<const std::byte> b, std::size_t at) {
+  std::uint32_t v;
+  std::memcpy(&v, b.data() + at, 4);
+  return v;
+}
+
+/// ASCII body: whitespace-separated numbers, one point per line, every value parsed strictly.
+void parse_ascii_body(std::span<const std::byte> bytes, const PcdHeader& h,
+                      pcl::PCLPointCloud2& blob, const std::string& source) {
+  std::string_view text(reinterpret_cast<const char*>(bytes.data()) + h.data_offset,
+                        bytes.size() - h.data_offset);
+  std::size_t elems = 0;
+  for (auto c : h.counts) elems += c;
+  std::uint64_t idx = 0;
+  std::size_t line_no = 0;
+  while (!text.empty()) {
+    ++line_no;
+    const auto eol = text.find('\n');
+    const auto line = text.substr(0, eol);
+    text = eol == std::string_view::npos ? std::string_view{} : text.substr(eol + 1);
+    const auto tok = split(line);
+    if (tok.empty()) continue;
+    if (idx >= h.points)
+      fail(source, "has more than the " + std::to_string(h.points) + " points of its header");
+    if (tok.size() != elems)
+      fail(source, "data line " + std::to_string(line_no) + " has " + std::to_string(tok.size()) +
+                       " values, expected " + std::to_string(elems));
+    std::uint8_t* out = blob.data.data() + idx * blob.point_step;
+    std::size_t t = 0;
+    for (std::size_t f = 0; f < h.names.size(); ++f) {
+      for (unsigned c = 0; c < h.counts[f]; ++c, ++t) {
+        double v = 0.0;
+        std::string_view s = tok[t];
+        if (!s.empty() && s[0] == '+') s.remove_prefix(1);
+        const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+        if (ec != std::errc() || ptr != s.data() + s.size())
+          fail(source, "data line " + std::to_string(line_no) + ": '" + std::string(tok[t]) +
+                           "' is not a number");
+        const auto type = pcl_type(h.types[f], h.sizes[f]);
+        auto put = [&](auto typed) {
+          using T = decltype(typed);
+          if constexpr (std::is_floating_point_v<T>) {
+            typed = static_cast<T>(v);
+          } else {
+            const double lo = static_cast<double>(std::numeric_limits<T>::lowest());
+            const double hi = static_cast<double>(std::numeric_limits<T>::max());
+            typed = std::isfinite(v) ? static_cast<T>(std::clamp(v, lo, hi)) : T{0};
+          }
+          std::memcpy(out, &typed, sizeof(T));
+          out += sizeof(T);
+        };
+        switch (type) {
+          case Field::FLOAT32:
+            put(float{});
+            break;
+          case Field::FLOAT64:
+            put(double{});
+            break;
+          case Field::INT8:
+            put(std::int8_t{});
+            break;
+          case Field::UINT8:
+            put(std::uint8_t{});
+            break;
+          case Field::INT16:
+            put(std::int16_t{});
+            break;
+          case Field::UINT16:
+            put(std::uint16_t{});
+            break;
+          case Field::INT32:
+            put(std::int32_t{});
+            break;
+          case Field::UINT32:
+            put(std::uint32_t{});
+            break;
+          case Field::INT64:
+            put(std::int64_t{});
+            break;
+          default:
+            put(std::uint64_t{});
+            break;
+        }
+      }
+    }
+    ++idx;
+  }
+  if (idx != h.points)
+    fail(source, "truncated: " + std::to_string(idx) + " data lines for " +
+                     std::to_string(h.points) + " points");
+}
+
+std::string header_text(const pcl::PCLPointCloud2& blob, const char* data) {
+  std::string fields, sizes, types, counts;
+  for (const auto& f : blob.fields) {
+    fields.append(" ").append(f.name);
+    const bool fp = f.datatype == Field::FLOAT32 || f.datatype == Field::FLOAT64;
+    const bool sgn = f.datatype == Field::INT8 || f.datatype == Field::INT16 ||
+                     f.datatype == Field::INT32 || f.datatype == Field::INT64;
+    const int size = pcl::getFieldSize(f.datatype);
+    sizes.append(" ").append(std::to_string(size));
+    types += fp ? " F" : sgn ? " I" : " U";
+    counts += " 1";
+  }
+  std::string h = "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS";
+  h.append(fields).append("\nSIZE").append(sizes).append("\nTYPE").append(types);
+  h.append("\nCOUNT").append(counts).append("\nWIDTH ").append(std::to_string(blob.width));
+  h.append("\nHEIGHT ").append(std::to_string(blob.height));
+  h.append("\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS ");
+  h.append(std::to_string(std::size_t(blob.width) * blob.height));
+  h.append("\nDATA ").append(data).append("\n");
+  return h;
+}
+
+std::string ascii_body(const pcl::PCLPointCloud2& blob) {
+  std::string body;
+  const std::size_t n = std::size_t(blob.width) * blob.height;
+  body.reserve(n * blob.fields.size() * 12);
+  char buf[40];
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t* p = blob.data.data() + i * blob.point_step;
+    for (std::size_t k = 0; k < blob.fields.size(); ++k) {
+      const auto& f = blob.fields[k];
+      int len = 0;
+      if (f.datatype == Field::FLOAT32) {
+        float v;
+        std::memcpy(&v, p + f.offset, 4);
+        len = std::snprintf(buf, sizeof(buf), "%.9g", v);  // 9 digits: float32 round-trips
+      } else if (f.datatype == Field::FLOAT64) {
+        double v;
+        std::memcpy(&v, p + f.offset, 8);
+        len = std::snprintf(buf, sizeof(buf), "%.17g", v);
+      } else if (f.datatype == Field::UINT16) {
+        std::uint16_t v;
+        std::memcpy(&v, p + f.offset, 2);
+        len = std::snprintf(buf, sizeof(buf), "%u", unsigned(v));
+      } else {
+        std::uint32_t v;
+        std::memcpy(&v, p + f.offset, 4);
+        len = std::snprintf(buf, sizeof(buf), "%u", v);
+      }
+      body.append(buf, static_cast<std::size_t>(len));
+      body += k + 1 == blob.fields.size() ? '\n' : ' ';
+    }
+  }
+  return body;
+}
+
+}  // namespace
+
+PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source) {
+  const PcdHeader h = parse_header(bytes, source);
+  const std::uint64_t data_bytes = h.points * h.point_step;
+  const std::uint64_t available = bytes.size() - h.data_offset;
+  if (h.data_type == 1 && data_bytes > available)
+    fail(source, "truncated: " + std::to_string(h.points) + " points of " +
+                     std::to_string(h.point_step) + " bytes need " + std::to_string(data_bytes) +
+                     " bytes, only " + std::to_string(available) + " follow the header");
+  if (h.data_type == 0 && h.points > available)
+    fail(source, "truncated: " + std::to_string(h.points) + " points cannot fit in the " +
+                     std::to_string(available) + " bytes of ascii data");
+  if (h.data_type == 2 && h.points > 0) {
+    if (available < 8) fail(source, "truncated: binary_compressed data has no size words");
+    const std::uint32_t compressed = get_u32(bytes, h.data_offset);
+    const std::uint32_t uncompressed = get_u32(bytes, h.data_offset + 4);
+    if (uncompressed != data_bytes)
+      fail(source, "binary_compressed data says " + std::to_string(uncompressed) +
+                       " bytes uncompressed, the header needs " + std::to_string(data_bytes));
+    if (compressed > available - 8)
+      fail(source, "truncated: compressed data of " + std::to_string(compressed) + " bytes, only " +
+                       std::to_string(available - 8) + " follow");
+  }
+
+  pcl::PCLPointCloud2 blob;
+  std::uint32_t offset = 0;
+  for (std::size_t i = 0; i < h.names.size(); ++i) {
+    Field f;
+    f.name = h.names[i];
+    f.offset = offset;
+    f.datatype = pcl_type(h.types[i], h.sizes[i]);
+    f.count = h.counts[i];
+    offset += h.sizes[i] * h.counts[i];
+    blob.fields.push_back(f);
+  }
+  blob.width = static_cast<std::uint32_t>(h.width);
+  blob.height = static_cast<std::uint32_t>(h.height);
+  blob.point_step = static_cast<std::uint32_t>(h.point_step);
+  blob.row_step = blob.point_step * blob.width;
+  blob.data.resize(data_bytes);
+  if (h.points > 0) {
+    if (h.data_type == 0) {
+      parse_ascii_body(bytes, h, blob, source);
+    } else {
+      // PCL decodes the checked body in place (binary: a copy; binary_compressed: LZF, then the
+      // per-field planes are interleaved back into points).
+      detail::QuietPcl quiet;
+      pcl::PCDReader reader;
+      if (reader.readBodyBinary(reinterpret_cast<const unsigned char*>(bytes.data()), blob,
+                                pcl::PCDReader::PCD_V7, h.data_type == 2,
+                                static_cast<unsigned>(h.data_offset)) < 0 ||
+          blob.data.size() != data_bytes)
+        fail(source, "corrupt binary_compressed data (LZF decompression failed)");
+    }
+  }
+  return detail::from_pcl_cloud2(blob, source);
+}
+
+PointCloud read_pcd(const std::filesystem::path& path) {
+  const auto bytes = read_file_bytes(path);
+  return parse_pcd(bytes, path.string());
+}
+
+void write_pcd(const std::filesystem::path& path, const PointCloud& cloud,
+               const WriteOptions& options) {
+  check_writable(path, options.overwrite);
+  const pcl::PCLPointCloud2 blob = detail::to_pcl_cloud2(cloud);
+  std::string out;
+  if (!options.binary) {
+    out = header_text(blob, "ascii") + ascii_body(blob);
+  } else if (!options.compressed || cloud.empty()) {
+    out = header_text(blob, "binary");
+    out.append(reinterpret_cast<const char*>(blob.data.data()), blob.data.size());
+  } else {
+    detail::QuietPcl quiet;
+    std::ostringstream os;
+    pcl::PCDWriter writer;
+    if (writer.writeBinaryCompressed(os, blob) != 0)
+      throw Error(path.string() + ": PCD binary_compressed encoding failed");
+    out = std::move(os).str();
+  }
+  write_file_atomic(path, out.data(), out.size(), options.overwrite);
+}
+
+}  // namespace fieldlidar::io

@@ -1,0 +1,277 @@
+#include "pcl_fields.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "fieldlidar/core/error.hpp"
+
+namespace fieldlidar::io::detail {
+
+namespace {
+
+using Field = pcl::PCLPointField;
+
+/// Calls store(i, value) for every point with the field's value converted from its stored type.
+/// One pass per field with the type fixed outside the loop keeps this a strided copy.
+template <typename T, typename Store>
+void extract(const std::uint8_t* data, std::size_t n, std::size_t step, std::size_t offset,
+             Store&& store) {
+  const std::uint8_t* p = data + offset;
+  for (std::size_t i = 0; i < n; ++i, p += step) {
+    T v;
+    std::memcpy(&v, p, sizeof(T));
+    store(i, v);
+  }
+}
+
+template <typename Store>
+bool visit(const Field& f, const pcl::PCLPointCloud2& blob, std::size_t n, Store&& store) {
+  const auto* d = blob.data.data();
+  const std::size_t s = blob.point_step;
+  const std::size_t o = f.offset;
+  switch (f.datatype) {
+    case Field::INT8:
+      extract<std::int8_t>(d, n, s, o, store);
+      return true;
+    case Field::UINT8:
+      extract<std::uint8_t>(d, n, s, o, store);
+      return true;
+    case Field::INT16:
+      extract<std::int16_t>(d, n, s, o, store);
+      return true;
+    case Field::UINT16:
+      extract<std::uint16_t>(d, n, s, o, store);
+      return true;
+    case Field::INT32:
+      extract<std::int32_t>(d, n, s, o, store);
+      return true;
+    case Field::UINT32:
+      extract<std::uint32_t>(d, n, s, o, store);
+      return true;
+    case Field::INT64:
+      extract<std::int64_t>(d, n, s, o, store);
+      return true;
+    case Field::UINT64:
+      extract<std::uint64_t>(d, n, s, o, store);
+      return true;
+    case Field::FLOAT32:
+      extract<float>(d, n, s, o, store);
+      return true;
+    case Field::FLOAT64:
+      extract<double>(d, n, s, o, store);
+      return true;
+    default:
+      return false;
+  }
+}
+
+std::size_t type_size(std::uint8_t datatype) {
+  switch (datatype) {
+    case Field::INT8:
+    case Field::UINT8:
+    case Field::BOOL:
+      return 1;
+    case Field::INT16:
+    case Field::UINT16:
+      return 2;
+    case Field::INT32:
+    case Field::UINT32:
+    case Field::FLOAT32:
+      return 4;
+    case Field::INT64:
+    case Field::UINT64:
+    case Field::FLOAT64:
+      return 8;
+    default:
+      return 0;
+  }
+}
+
+bool is_integer(std::uint8_t datatype) {
+  return datatype != Field::FLOAT32 && datatype != Field::FLOAT64;
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (s.rfind("scalar_", 0) == 0) s.erase(0, 7);  // CloudCompare's PLY property prefix
+  return s;
+}
+
+const Field* find(const pcl::PCLPointCloud2& blob, std::initializer_list<const char*> names) {
+  for (const char* name : names)
+    for (const auto& f : blob.fields)
+      if (lower(f.name) == name) return &f;
+  return nullptr;
+}
+
+/// Seconds per unit of an absolute time whose largest value is `max_abs` (epoch-based clocks).
+double absolute_time_unit_s(double max_abs) {
+  if (max_abs > 1e17) return 1e-9;
+  if (max_abs > 1e14) return 1e-6;
+  if (max_abs > 1e11) return 1e-3;
+  return 1.0;
+}
+
+}  // namespace
+
+PointCloud from_pcl_cloud2(const pcl::PCLPointCloud2& blob, const std::string& source) {
+  const std::size_t n = std::size_t(blob.width) * blob.height;
+  if (blob.data.size() < n * blob.point_step)
+    throw Error(source + ": point data holds " + std::to_string(blob.data.size()) +
+                " bytes, expected " + std::to_string(n * blob.point_step));
+  for (const auto& f : blob.fields) {
+    const std::size_t size = type_size(f.datatype);
+    if (size == 0 || f.offset + size * std::max<std::uint32_t>(f.count, 1) > blob.point_step)
+      throw Error(source + ": field '" + f.name + "' has an unsupported type or lies outside the " +
+                  std::to_string(blob.point_step) + "-byte point");
+  }
+  const Field* fx = find(blob, {"x"});
+  const Field* fy = find(blob, {"y"});
+  const Field* fz = find(blob, {"z"});
+  if (!fx || !fy || !fz) throw Error(source + ": has no x, y and z fields");
+  for (const Field* f : {fx, fy, fz})
+    if (f->datatype != Field::FLOAT32 && f->datatype != Field::FLOAT64)
+      throw Error(source + ": coordinate field '" + f->name + "' is not float32 or float64");
+
+  PointCloud cloud;
+  cloud.points.resize(n);
+  cloud.width = blob.width;
+  cloud.height = blob.height;
+  auto& pts = cloud.points;
+  visit(*fx, blob, n, [&](std::size_t i, auto v) { pts[i].x = static_cast<float>(v); });
+  visit(*fy, blob, n, [&](std::size_t i, auto v) { pts[i].y = static_cast<float>(v); });
+  visit(*fz, blob, n, [&](std::size_t i, auto v) { pts[i].z = static_cast<float>(v); });
+
+  if (const Field* f = find(blob, {"intensity", "i"})) {
+    cloud.fields.intensity = true;
+    visit(*f, blob, n, [&](std::size_t i, auto v) {
+      const float x = static_cast<float>(v);
+      pts[i].intensity = std::isfinite(x) ? x : 0.f;
+    });
+  }
+  if (const Field* f = find(blob, {"ring", "channel", "laser_id"})) {
+    cloud.fields.ring = true;
+    visit(*f, blob, n, [&](std::size_t i, auto v) {
+      const double r = static_cast<double>(v);
+      pts[i].ring = (r >= 0 && r < Point::kNoRing) ? static_cast<std::uint16_t>(r) : Point::kNoRing;
+    });
+  }
+  if (const Field* f = find(blob, {"label"})) {
+    cloud.fields.label = true;
+    cloud.labels.resize(n);
+    visit(*f, blob, n, [&](std::size_t i, auto v) {
+      const double l = static_cast<double>(v);
+      cloud.labels[i] = (l >= 0 && l <= UINT32_MAX) ? static_cast<std::uint32_t>(l) : 0u;
+    });
+  }
+  const Field* ft = find(blob, {"timestamp"});
+  const bool named_absolute = ft != nullptr;
+  if (!ft) ft = find(blob, {"t", "time", "time_offset"});
+  if (ft && n > 0) {
+    std::vector<double> t(n);
+    visit(*ft, blob, n, [&](std::size_t i, auto v) { t[i] = static_cast<double>(v); });
+    double max_abs = 0.0;
+    for (double v : t)
+      if (std::isfinite(v)) max_abs = std::max(max_abs, std::abs(v));
+    double unit_s = is_integer(ft->datatype) ? 1e-9 : 1.0;  // integer offsets: ns (Ouster `t`)
+    const bool absolute = named_absolute || max_abs * unit_s > 1e3;
+    if (absolute) unit_s = absolute_time_unit_s(max_abs);
+    // Absolute stamps: no-return cells of organized scans carry a zero stamp (pcd_os128 does),
+    // so the sweep start is the earliest non-zero stamp and zero stamps get offset 0.
+    double t0 = 0.0;
+    if (absolute) {
+      t0 = std::numeric_limits<double>::infinity();
+      for (double v : t)
+        if (std::isfinite(v) && v != 0.0) t0 = std::min(t0, v);
+      if (!std::isfinite(t0)) t0 = 0.0;
+      cloud.stamp_s = t0 * unit_s;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool known = std::isfinite(t[i]) && !(absolute && t[i] == 0.0);
+      pts[i].time = known ? static_cast<float>((t[i] - t0) * unit_s) : 0.f;
+    }
+    cloud.fields.time = true;
+  }
+
+  // NaN coordinates: no-returns of an organized scan, errors otherwise.
+  const bool organized = blob.height > 1;
+  std::size_t nan_count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    Point& p = pts[i];
+    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) continue;
+    if (!organized)
+      throw Error(source + ": point " + std::to_string(i) +
+                  " has a NaN or infinite coordinate (unorganized cloud)");
+    p.x = p.y = p.z = 0.f;
+    ++nan_count;
+  }
+  if (n > 0 && nan_count == n) throw Error(source + ": every point has NaN coordinates");
+  return cloud;
+}
+
+pcl::PCLPointCloud2 to_pcl_cloud2(const PointCloud& cloud) {
+  pcl::PCLPointCloud2 blob;
+  auto add = [&](const char* name, std::uint8_t type) {
+    Field f;
+    f.name = name;
+    f.offset = blob.point_step;
+    f.datatype = type;
+    f.count = 1;
+    blob.fields.push_back(f);
+    blob.point_step += static_cast<std::uint32_t>(type_size(type));
+  };
+  add("x", Field::FLOAT32);
+  add("y", Field::FLOAT32);
+  add("z", Field::FLOAT32);
+  add("intensity", Field::FLOAT32);
+  const bool ring = cloud.fields.ring;
+  const bool absolute = cloud.fields.time && cloud.stamp_s != 0.0;
+  const bool offsets = cloud.fields.time && !absolute;
+  const bool label = cloud.has_labels();
+  std::uint32_t ring_at = 0, time_at = 0, label_at = 0;
+  if (ring) {
+    ring_at = blob.point_step;
+    add("ring", Field::UINT16);
+  }
+  if (offsets) {
+    time_at = blob.point_step;
+    add("time", Field::FLOAT32);
+  }
+  if (absolute) {
+    time_at = blob.point_step;
+    add("timestamp", Field::FLOAT64);
+  }
+  if (label) {
+    label_at = blob.point_step;
+    add("label", Field::UINT32);
+  }
+  const std::size_t n = cloud.size();
+  const bool organized = cloud.is_organized();
+  blob.width = organized ? cloud.width : static_cast<std::uint32_t>(n);
+  blob.height = organized ? cloud.height : 1;
+  blob.row_step = blob.point_step * blob.width;
+  blob.is_dense = true;
+  blob.data.resize(n * blob.point_step);
+  std::uint8_t* out = blob.data.data();
+  for (std::size_t i = 0; i < n; ++i, out += blob.point_step) {
+    const Point& p = cloud.points[i];
+    const float xyzi[4] = {p.x, p.y, p.z, p.intensity};
+    std::memcpy(out, xyzi, sizeof(xyzi));
+    if (ring) std::memcpy(out + ring_at, &p.ring, sizeof(p.ring));
+    if (offsets) std::memcpy(out + time_at, &p.time, sizeof(p.time));
+    if (absolute) {
+      const double t = cloud.stamp_s + p.time;
+      std::memcpy(out + time_at, &t, sizeof(t));
+    }
+    if (label) std::memcpy(out + label_at, &cloud.labels[i], sizeof(std::uint32_t));
+  }
+  return blob;
+}
+
+}  // namespace fieldlidar::io::detail

@@ -1,0 +1,43 @@
+#pragma once
+// Conversion between pcl::PCLPointCloud2 (the field-wise blob PCL's PCD and PLY readers produce)
+// and fieldlidar::PointCloud. Private to io/: PCL never appears in a public header.
+
+#include <string>
+
+#include <pcl/PCLPointCloud2.h>
+#include <pcl/console/print.h>
+
+#include "fieldlidar/core/point_cloud.hpp"
+
+namespace fieldlidar::io::detail {
+
+/// Fields x y z (float32/float64; required), intensity (any numeric type), ring, time offsets or
+/// absolute timestamps, label. Time: a field named `t`, `time` or `time_offset` holds offsets from
+/// the sweep start (s when floating point, ns when integer, as Ouster's `t`); `timestamp`, or any
+/// time field whose values exceed 1000 s, holds absolute times whose unit is found from their
+/// magnitude (> 1e17 ns, > 1e14 us, > 1e11 ms, else s): cloud.stamp_s becomes the earliest one
+/// and each point's time its offset from it.
+/// NaN/Inf coordinates: in an organized cloud (height > 1) they are no-returns and become the
+/// all-zero point (Point::is_valid() is false) so rows and columns stay aligned; in an unorganized
+/// cloud, or when every point is NaN, they are an error naming `source`.
+PointCloud from_pcl_cloud2(const pcl::PCLPointCloud2& blob, const std::string& source);
+
+/// x y z intensity (float32), ring (uint16) when filled, time (float32 offset, s) or, when
+/// stamp_s != 0, timestamp (float64 absolute, s), label (uint32) when the cloud is labelled.
+pcl::PCLPointCloud2 to_pcl_cloud2(const PointCloud& cloud);
+
+/// Silences PCL's console messages while a reader or writer runs (the library never prints).
+class QuietPcl {
+ public:
+  QuietPcl() : saved_(pcl::console::getVerbosityLevel()) {
+    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  }
+  ~QuietPcl() { pcl::console::setVerbosityLevel(saved_); }
+  QuietPcl(const QuietPcl&) = delete;
+  QuietPcl& operator=(const QuietPcl&) = delete;
+
+ private:
+  pcl::console::VERBOSITY_LEVEL saved_;
+};
+
+}  // namespace fieldlidar::io::detail

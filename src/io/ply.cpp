@@ -1,0 +1,190 @@
+#include "fieldlidar/io/ply.hpp"
+
+#include <charconv>
+#include <fstream>
+#include <string_view>
+#include <vector>
+
+#include <pcl/io/ply_io.h>
+
+#include "fieldlidar/core/error.hpp"
+#include "pcl_fields.hpp"
+
+namespace fieldlidar::io {
+
+namespace {
+
+constexpr std::size_t kMaxHeaderBytes = 1 << 16;
+
+[[noreturn]] void fail(const std::string& source, const std::string& what) {
+  throw Error(source + ": PLY " + what);
+}
+
+std::vector<std::string_view> split(std::string_view line) {
+  std::vector<std::string_view> out;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    std::size_t j = i;
+    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
+    if (j > i) out.push_back(line.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+std::size_t scalar_size(std::string_view t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32")
+    return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::uint64_t min_bytes = 0;  ///< per item; a list counts only its length field
+  std::vector<std::string> properties;
+  bool has_list = false;
+};
+
+/// Checks the header strictly and bounds every element count by the bytes that follow it, so
+/// that PCL's parser never sees a count it would allocate for but cannot read.
+void check_header(std::span<const std::byte> bytes, const std::string& source) {
+  const std::string_view text(reinterpret_cast<const char*>(bytes.data()),
+                              std::min(bytes.size(), kMaxHeaderBytes));
+  if (bytes.empty()) fail(source, "file is empty");
+  if (text.substr(0, 4) != "ply\n" && text.substr(0, 5) != "ply\r\n")
+    fail(source, "file does not start with 'ply' (not a PLY file)");
+  std::size_t pos = text.find('\n') + 1;
+  int format = -1;  // 0 ascii, 1 binary
+  std::vector<PlyElement> elements;
+  bool ended = false;
+  while (!ended) {
+    const auto eol = text.find('\n', pos);
+    if (eol == std::string_view::npos) fail(source, "header has no end_header (truncated?)");
+    const auto tok = split(text.substr(pos, eol - pos));
+    pos = eol + 1;
+    if (tok.empty()) continue;
+    const auto key = tok[0];
+    if (key == "comment" || key == "obj_info") continue;
+    if (key == "format" && tok.size() == 3 && format < 0) {
+      if (tok[2] != "1.0") fail(source, "version '" + std::string(tok[2]) + "' is not 1.0");
+      if (tok[1] == "ascii")
+        format = 0;
+      else if (tok[1] == "binary_little_endian" || tok[1] == "binary_big_endian")
+        format = 1;
+      else
+        fail(source, "format '" + std::string(tok[1]) + "' is unknown");
+    } else if (key == "element" && tok.size() == 3) {
+      PlyElement e;
+      e.name = tok[1];
+      const auto [p, ec] = std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), e.count);
+      if (ec != std::errc() || p != tok[2].data() + tok[2].size())
+        fail(source,
+             "element '" + e.name + "' count '" + std::string(tok[2]) + "' is not a number");
+      elements.push_back(e);
+    } else if (key == "property" && !elements.empty()) {
+      auto& e = elements.back();
+      if (tok.size() == 3 && scalar_size(tok[1]) > 0) {
+        e.min_bytes += scalar_size(tok[1]);
+        e.properties.emplace_back(tok[2]);
+      } else if (tok.size() == 5 && tok[1] == "list" && scalar_size(tok[2]) > 0 &&
+                 scalar_size(tok[3]) > 0) {
+        e.min_bytes += scalar_size(tok[2]);
+        e.properties.emplace_back(tok[4]);
+        e.has_list = true;
+      } else {
+        fail(source, "property line of element '" + e.name + "' is malformed");
+      }
+    } else if (key == "end_header" && tok.size() == 1) {
+      ended = true;
+    } else {
+      fail(source, "unexpected header line starting '" + std::string(key) + "'");
+    }
+  }
+  if (format < 0) fail(source, "header has no format line");
+  const std::uint64_t available = bytes.size() - pos;
+  std::uint64_t need = 0;
+  bool vertex = false;
+  for (const auto& e : elements) {
+    if (e.properties.empty() && e.count > 0)
+      fail(source, "element '" + e.name + "' has no properties");
+    // ascii: every value takes at least one character and a separator.
+    const std::uint64_t item = format == 0 ? 2 * e.properties.size() : e.min_bytes;
+    if (e.count > (available - std::min(need, available)) / std::max<std::uint64_t>(item, 1))
+      fail(source, "truncated: element '" + e.name + "' has " + std::to_string(e.count) +
+                       " items but only " + std::to_string(available) + " bytes follow the header");
+    need += e.count * item;
+    if (e.name == "vertex") {
+      vertex = true;
+      if (e.has_list) fail(source, "vertex element has a list property (meshes are not read)");
+      for (const char* axis : {"x", "y", "z"})
+        if (std::find(e.properties.begin(), e.properties.end(), axis) == e.properties.end())
+          fail(source, std::string("vertex element has no '") + axis + "' property");
+    }
+  }
+  if (!vertex) fail(source, "has no vertex element");
+}
+
+std::vector<std::byte> read_head(const std::filesystem::path& path) {
+  // Only the header is checked here; PCL reads the body itself.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw Error(path.string() + ": no such file");
+  return read_file_bytes(path);
+}
+
+}  // namespace
+
+PointCloud read_ply(const std::filesystem::path& path) {
+  const auto bytes = read_head(path);
+  check_header(bytes, path.string());
+  pcl::PCLPointCloud2 blob;
+  {
+    detail::QuietPcl quiet;
+    pcl::PLYReader reader;
+    Eigen::Vector4f origin;
+    Eigen::Quaternionf orientation;
+    int version = 0;
+    int rc = -1;
+    try {
+      rc = reader.read(path.string(), blob, origin, orientation, version);
+    } catch (const std::exception& e) {
+      fail(path.string(), std::string("could not be parsed: ") + e.what());
+    }
+    if (rc < 0) fail(path.string(), "could not be parsed (malformed or truncated body)");
+  }
+  return detail::from_pcl_cloud2(blob, path.string());
+}
+
+void write_ply(const std::filesystem::path& path, const PointCloud& cloud,
+               const WriteOptions& options) {
+  check_writable(path, options.overwrite);
+  pcl::PCLPointCloud2 blob = detail::to_pcl_cloud2(cloud);
+  auto tmp = path;
+  tmp += ".tmp.ply";
+  int rc = -1;
+  {
+    detail::QuietPcl quiet;
+    pcl::PLYWriter writer;
+    const Eigen::Vector4f origin = Eigen::Vector4f::Zero();
+    const Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
+    rc = options.binary ? writer.writeBinary(tmp.string(), blob, origin, orientation, false)
+                        : writer.writeASCII(tmp.string(), blob, origin, orientation, 9, false);
+  }
+  std::error_code ec;
+  if (rc != 0) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(path.string() + ": PLY write failed");
+  }
+  check_writable(path, options.overwrite);
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(path.string() + ": cannot move the written file into place");
+  }
+}
+
+}  // namespace fieldlidar::io
