@@ -1,0 +1,251 @@
+// ROS1 bags through rosbag_storage; messages decoded from their serialized bytes.
+#include "fieldlidar/io/rosbag_reader.hpp"
+
+#include <algorithm>
+#include <deque>
+#include <limits>
+#include <optional>
+
+#include <ros/serialization.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include "fieldlidar/core/error.hpp"
+
+namespace fieldlidar::io {
+namespace {
+
+// md5 sums of the ROS1 message definitions this reader decodes (from the connection header; a
+// different sum means a different layout, which must not be decoded with these parsers).
+struct KnownType {
+  const char* datatype;
+  const char* md5;
+};
+constexpr KnownType kLaserScan{"sensor_msgs/LaserScan", "90c7ef2dc6895d81024acba2ac42f369"};
+constexpr KnownType kPointCloud2{"sensor_msgs/PointCloud2", "1158d486dd51d683ce2f1be655c3c181"};
+constexpr KnownType kImu{"sensor_msgs/Imu", "6a62c6daae103f4ff57a132d6f95cec2"};
+constexpr KnownType kOdometry{"nav_msgs/Odometry", "cd5e73d190d741a2f92e81eda573aca7"};
+constexpr KnownType kPoseArray{"geometry_msgs/PoseArray", "916c28c5764443f268b296bb671b9886"};
+
+bool is_type(const BagTopic& t, const KnownType& k) {
+  return t.datatype == k.datatype;
+}
+
+void check_md5(const std::filesystem::path& bag, const BagTopic& t, const KnownType& k) {
+  if (t.md5sum != k.md5 && t.md5sum != "*")
+    throw Error(bag.string() + ": topic '" + t.name + "' has type " + t.datatype + " with md5 " +
+                t.md5sum + ", expected " + k.md5 + " (a different message definition)");
+}
+
+std::string list_topics(const std::vector<BagTopic>& topics) {
+  std::string s;
+  for (const auto& t : topics)
+    s += (s.empty() ? "" : ", ") + t.name + " [" + t.datatype + ", " + std::to_string(t.messages) +
+         "]";
+  return s.empty() ? "(none)" : s;
+}
+
+std::unique_ptr<rosbag::Bag> open_bag(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path)) throw Error(path.string() + ": no such file");
+  auto bag = std::make_unique<rosbag::Bag>();
+  try {
+    bag->open(path.string(), rosbag::bagmode::Read);
+  } catch (const std::exception& e) {
+    throw Error(path.string() + ": not a readable ROS1 bag (" + e.what() + ")");
+  }
+  return bag;
+}
+
+std::vector<BagTopic> topics_of(rosbag::Bag& bag) {
+  std::vector<BagTopic> out;
+  rosbag::View all(bag);
+  for (const rosbag::ConnectionInfo* c : all.getConnections()) {
+    auto it =
+        std::find_if(out.begin(), out.end(), [&](const BagTopic& t) { return t.name == c->topic; });
+    if (it != out.end()) continue;
+    BagTopic t;
+    t.name = c->topic;
+    t.datatype = c->datatype;
+    t.md5sum = c->md5sum;
+    out.push_back(t);
+  }
+  for (auto& t : out) t.messages = rosbag::View(bag, rosbag::TopicQuery(t.name)).size();
+  std::sort(out.begin(), out.end(),
+            [](const BagTopic& a, const BagTopic& b) { return a.name < b.name; });
+  return out;
+}
+
+void message_bytes(const rosbag::MessageInstance& m, std::vector<std::uint8_t>& buf) {
+  buf.resize(m.size());
+  ros::serialization::OStream s(buf.data(), std::uint32_t(buf.size()));
+  m.write(s);
+}
+
+/// Lazily walks the messages of some topics in bag-time order, with one message of look-ahead.
+template <class Sample>
+class TopicStream {
+ public:
+  using Parser = Sample (*)(std::span<const std::uint8_t>);
+  TopicStream(rosbag::Bag& bag, const std::vector<std::string>& topics, Parser parse,
+              std::string source)
+      : parse_(parse), source_(std::move(source)) {
+    if (topics.empty()) return;
+    view_ = std::make_unique<rosbag::View>(bag, rosbag::TopicQuery(topics));
+    it_ = view_->begin();
+  }
+  std::vector<Sample> until(double until_s) {
+    std::vector<Sample> out;
+    if (!view_) return out;
+    for (;;) {
+      if (!pending_) {
+        if (it_ == view_->end()) break;
+        message_bytes(*it_, buf_);
+        const std::string topic = it_->getTopic();
+        ++it_;
+        try {
+          pending_ = parse_(buf_);
+        } catch (const Error& e) {
+          throw Error(source_ + ": topic '" + topic + "': " + e.what());
+        }
+      }
+      if (pending_->stamp_s > until_s) break;
+      out.push_back(std::move(*pending_));
+      pending_.reset();
+    }
+    std::stable_sort(out.begin(), out.end(),
+                     [](const Sample& a, const Sample& b) { return a.stamp_s < b.stamp_s; });
+    return out;
+  }
+
+ private:
+  Parser parse_;
+  std::string source_;
+  std::unique_ptr<rosbag::View> view_;
+  rosbag::View::iterator it_;
+  std::optional<Sample> pending_;
+  std::vector<std::uint8_t> buf_;
+};
+
+class RosbagSource final : public FrameSource {
+ public:
+  RosbagSource(const std::filesystem::path& path, const std::string& topic)
+      : path_(path), bag_(open_bag(path)) {
+    const auto topics = topics_of(*bag_);
+    std::vector<const BagTopic*> scans;
+    for (const auto& t : topics)
+      if (is_type(t, kLaserScan) || is_type(t, kPointCloud2)) scans.push_back(&t);
+    const BagTopic* chosen = nullptr;
+    if (!topic.empty()) {
+      for (const auto& t : topics)
+        if (t.name == topic) chosen = &t;
+      if (!chosen)
+        throw Error(path.string() + ": no topic '" + topic +
+                    "' in the bag; topics: " + list_topics(topics));
+      if (!is_type(*chosen, kLaserScan) && !is_type(*chosen, kPointCloud2))
+        throw Error(path.string() + ": topic '" + topic + "' is " + chosen->datatype +
+                    ", not sensor_msgs/PointCloud2 or sensor_msgs/LaserScan; topics: " +
+                    list_topics(topics));
+    } else if (scans.size() == 1) {
+      chosen = scans.front();
+    } else if (scans.empty()) {
+      throw Error(path.string() + ": no sensor_msgs/PointCloud2 or LaserScan topic; topics: " +
+                  list_topics(topics));
+    } else {
+      throw Error(path.string() +
+                  ": several scan topics, choose one with --topic; topics: " + list_topics(topics));
+    }
+    topic_ = *chosen;
+    laser_scan_ = is_type(topic_, kLaserScan);
+    check_md5(path, topic_, laser_scan_ ? kLaserScan : kPointCloud2);
+    std::vector<std::string> imu_topics, odom_topics;
+    for (const auto& t : topics) {
+      if (is_type(t, kImu)) check_md5(path, t, kImu), imu_topics.push_back(t.name);
+      if (is_type(t, kOdometry)) check_md5(path, t, kOdometry), odom_topics.push_back(t.name);
+    }
+    view_ = std::make_unique<rosbag::View>(*bag_, rosbag::TopicQuery(topic_.name));
+    total_ = view_->size();
+    it_ = view_->begin();
+    imu_.emplace(*bag_, imu_topics, &parse_imu, path.string());
+    odom_.emplace(*bag_, odom_topics, &parse_odometry, path.string());
+  }
+
+  std::optional<Frame> next() override {
+    if (it_ == view_->end()) return std::nullopt;
+    message_bytes(*it_, buf_);
+    ++it_;
+    Frame f;
+    try {
+      f.cloud = laser_scan_ ? parse_laser_scan(buf_) : parse_point_cloud2(buf_);
+    } catch (const Error& e) {
+      throw Error(path_.string() + ": topic '" + topic_.name + "' message " +
+                  std::to_string(index_) + ": " + e.what());
+    }
+    f.stamp_s = f.cloud.stamp_s;
+    f.index = index_++;
+    f.topic = topic_.name;
+    return f;
+  }
+  std::string format() const override { return "rosbag"; }
+  std::vector<ImuSample> imu_until(double until_s) override { return imu_->until(until_s); }
+  std::vector<OdometrySample> odometry_until(double until_s) override {
+    return odom_->until(until_s);
+  }
+  double progress() const override { return total_ ? double(index_) / double(total_) : 1.0; }
+
+ private:
+  std::filesystem::path path_;
+  std::unique_ptr<rosbag::Bag> bag_;
+  BagTopic topic_;
+  bool laser_scan_ = false;
+  std::unique_ptr<rosbag::View> view_;
+  rosbag::View::iterator it_;
+  std::size_t index_ = 0, total_ = 0;
+  std::vector<std::uint8_t> buf_;
+  std::optional<TopicStream<ImuSample>> imu_;
+  std::optional<TopicStream<OdometrySample>> odom_;
+};
+
+}  // namespace
+
+std::vector<BagTopic> bag_topics(const std::filesystem::path& bag) {
+  auto b = open_bag(bag);
+  try {
+    return topics_of(*b);
+  } catch (const rosbag::BagException& e) {
+    throw Error(bag.string() + ": " + e.what());
+  }
+}
+
+std::map<std::string, std::size_t> bag_topic_counts(const std::filesystem::path& bag) {
+  std::map<std::string, std::size_t> out;
+  for (const auto& t : bag_topics(bag)) out[t.name] = t.messages;
+  return out;
+}
+
+std::vector<PoseArraySample> read_pose_arrays(const std::filesystem::path& bag,
+                                              const std::string& topic) {
+  auto b = open_bag(bag);
+  const auto topics = topics_of(*b);
+  auto it = std::find_if(topics.begin(), topics.end(),
+                         [&](const BagTopic& t) { return t.name == topic; });
+  if (it == topics.end())
+    throw Error(bag.string() + ": no topic '" + topic +
+                "' in the bag; topics: " + list_topics(topics));
+  if (!is_type(*it, kPoseArray))
+    throw Error(bag.string() + ": topic '" + topic + "' is " + it->datatype +
+                ", not geometry_msgs/PoseArray");
+  check_md5(bag, *it, kPoseArray);
+  TopicStream<PoseArraySample> stream(*b, {topic}, &parse_pose_array, bag.string());
+  return stream.until(std::numeric_limits<double>::infinity());
+}
+
+std::unique_ptr<FrameSource> open_rosbag(const std::filesystem::path& bag,
+                                         const std::string& topic) {
+  try {
+    return std::make_unique<RosbagSource>(bag, topic);
+  } catch (const rosbag::BagException& e) {
+    throw Error(bag.string() + ": " + e.what());
+  }
+}
+
+}  // namespace fieldlidar::io
