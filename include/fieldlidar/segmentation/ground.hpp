@@ -1,0 +1,87 @@
+#pragma once
+/// \file Ground segmentation: three methods behind one call, per-point ground flags.
+
+#include <cstdint>
+#include <vector>
+
+#include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/segmentation/range_image.hpp"
+
+namespace fieldlidar::segmentation {
+
+enum class GroundMethod {
+  kRobust,   ///< polar-grid local plane fits grown outward from the sensor (default)
+  kSeed000,  ///< seed 000: height difference between neighbouring rows of the range image
+  kSeed002,  ///< seed 002: downward beams, ground when H - h <= tolerance
+};
+
+/// seed 000, step 2: two vertically neighbouring range-image cells (rows below the horizon) are
+/// both ground when their height difference is small for their horizontal spacing.
+struct Seed000GroundConfig {
+  double max_height_step_m = 0.05;  ///< allowed |dz| between neighbouring rows at zero spacing
+  double max_slope_deg = 10.0;      ///< plus tan(slope) * horizontal spacing of the two points
+  double max_elevation_deg = 0.0;   ///< only beams looking below this elevation take part
+  RangeImageConfig image;
+};
+
+/// seed 002, step b: a point of a downward beam is ground when H - h <= tolerance_m, with H the
+/// mounting height and h the vertical drop from the sensor to the point (h = -z, lidar frame).
+struct Seed002GroundConfig {
+  double tolerance_m = 0.05;
+  double mounting_height_m = 0.0;  ///< H; 0 = SensorModel::mounting_height_m, else estimated
+};
+
+/// The robust default: the ground is grown outward over a polar grid of local plane fits.
+struct RobustGroundConfig {
+  double max_range_m = 120.0;    ///< points farther away are left non-ground
+  double sector_deg = 2.8125;    ///< azimuth width of a polar cell (128 sectors)
+  double min_cell_m = 0.5;       ///< radial length of the innermost cells
+  double cell_growth = 0.06;     ///< radial length = max(min_cell_m, cell_growth * range)
+  double seed_band_m = 0.25;     ///< points within this of a cell's low point seed the fit
+  double max_slope_deg = 22.0;   ///< steepest ground plane accepted (uprightness)
+  double max_step_m = 0.30;      ///< height jump allowed between neighbouring ground cells
+  double max_bend_deg = 11.0;    ///< change of slope allowed from one ground cell to the next
+  double max_flatness_m = 0.08;  ///< sqrt of the smallest eigenvalue of a ground fit
+  double ground_above_m = 0.18;  ///< points up to this above the local plane are ground
+  double ground_below_m = 1.0;   ///< and down to this below it
+  double clutter_height_m =
+      1.5;  ///< returns between ground_above_m and this over a cell's plane are clutter
+  double max_clutter_ratio =
+      0.0;  ///< a cell with more clutter than this times its ground returns is not ground (0 = off)
+  double near_range_m = 12.0;  ///< sensor height estimated from cells nearer than this
+};
+
+struct GroundConfig {
+  GroundMethod method = GroundMethod::kRobust;
+  RobustGroundConfig robust;
+  Seed000GroundConfig seed000;
+  Seed002GroundConfig seed002;
+};
+
+struct GroundResult {
+  std::vector<std::uint8_t> is_ground;  ///< 1 per input point that is ground, else 0
+  double sensor_height_m = 0.0;         ///< height of the sensor above the ground near it
+  std::size_t ground_count = 0;
+};
+
+/// Ground flags for every point of `cloud` (invalid points are never ground).
+GroundResult segment_ground(const PointCloud& cloud, const SensorModel& sensor,
+                            const GroundConfig& config = {});
+
+GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
+                           const RobustGroundConfig& config = {});
+GroundResult ground_seed000(const PointCloud& cloud, const SensorModel& sensor,
+                            const Seed000GroundConfig& config = {});
+/// Seed 000 on an image already built for the cloud.
+GroundResult ground_seed000(const PointCloud& cloud, const RangeImage& image,
+                            const Seed000GroundConfig& config = {});
+GroundResult ground_seed002(const PointCloud& cloud, const SensorModel& sensor,
+                            const Seed002GroundConfig& config = {});
+
+/// Height of the sensor above the ground around it (m), from the lowest returns of the cells
+/// nearer than `near_range_m`; `fallback_m` when the cloud has too few of them.
+double estimate_sensor_height(const PointCloud& cloud, double near_range_m = 12.0,
+                              double fallback_m = 0.0);
+
+}  // namespace fieldlidar::segmentation

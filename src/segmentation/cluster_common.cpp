@@ -1,0 +1,59 @@
+#include "cluster_common.hpp"
+
+#include <algorithm>
+
+namespace fieldlidar::segmentation {
+
+void finish_cluster(const PointCloud& cloud, Cluster& cluster) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  cluster.min = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+  cluster.max = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
+  for (std::uint32_t i : cluster.indices) {
+    const Eigen::Vector3f p = cloud.points[i].xyz();
+    sum += p.cast<double>();
+    cluster.min = cluster.min.cwiseMin(p);
+    cluster.max = cluster.max.cwiseMax(p);
+  }
+  if (cluster.indices.empty()) {
+    cluster.min = cluster.max = cluster.centroid = Eigen::Vector3f::Zero();
+    return;
+  }
+  cluster.centroid = (sum / double(cluster.indices.size())).cast<float>();
+}
+
+ClusterResult make_clusters(const PointCloud& cloud, const std::vector<std::int32_t>& component,
+                            std::size_t component_count, std::size_t min_points,
+                            std::size_t max_points) {
+  std::vector<std::uint32_t> count(component_count, 0);
+  std::vector<std::uint32_t> first(component_count, std::uint32_t(-1));
+  for (std::size_t i = 0; i < component.size(); ++i) {
+    const std::int32_t c = component[i];
+    if (c < 0) continue;
+    if (count[c]++ == 0) first[c] = std::uint32_t(i);
+  }
+  std::vector<std::uint32_t> kept;
+  for (std::size_t c = 0; c < component_count; ++c)
+    if (count[c] > 0 && count[c] >= min_points && count[c] <= max_points)
+      kept.push_back(std::uint32_t(c));
+  std::sort(kept.begin(), kept.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return count[a] != count[b] ? count[a] > count[b] : first[a] < first[b];
+  });
+  std::vector<std::int32_t> rank(component_count, -1);
+  ClusterResult out;
+  out.clusters.resize(kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    rank[kept[k]] = std::int32_t(k);
+    out.clusters[k].indices.reserve(count[kept[k]]);
+  }
+  out.cluster_of_point.assign(component.size(), -1);
+  for (std::size_t i = 0; i < component.size(); ++i) {
+    const std::int32_t c = component[i];
+    if (c < 0 || rank[c] < 0) continue;
+    out.cluster_of_point[i] = rank[c];
+    out.clusters[rank[c]].indices.push_back(std::uint32_t(i));
+  }
+  for (auto& cl : out.clusters) finish_cluster(cloud, cl);
+  return out;
+}
+
+}  // namespace fieldlidar::segmentation

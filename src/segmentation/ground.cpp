@@ -1,0 +1,23 @@
+#include "fieldlidar/segmentation/ground.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace fieldlidar::segmentation {
+
+GroundResult segment_ground(const PointCloud& cloud, const SensorModel& sensor,
+                            const GroundConfig& config) {
+  switch (config.method) {
+    case GroundMethod::kSeed000:
+      return ground_seed000(cloud, sensor, config.seed000);
+    case GroundMethod::kSeed002:
+      return ground_seed002(cloud, sensor, config.seed002);
+    case GroundMethod::kRobust:
+      break;
+  }
+  return ground_robust(cloud, sensor, config.robust);
+}
+
+}  // namespace fieldlidar::segmentation

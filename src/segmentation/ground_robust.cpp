@@ -1,0 +1,209 @@
+// The robust default ground segmentation: local plane fits on a polar grid, grown outward from
+// the sensor with uprightness, flatness and height-continuity tests. The sensor height is
+// estimated from the cloud (estimate_sensor_height), so a wrong or unknown mounting height does
+// not matter; no state is kept between frames.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numbers>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+
+#include "fieldlidar/segmentation/ground.hpp"
+#include "ground_plane.hpp"
+#include "polar_grid.hpp"
+
+namespace fieldlidar::segmentation {
+namespace {
+
+enum class CellState : std::uint8_t { kEmpty, kGround, kRejected };
+
+struct CellFit {
+  Eigen::Vector3f normal{0.f, 0.f, 1.f};  ///< up-pointing unit normal of the low points
+  float d = 0.f;                          ///< plane: normal . p + d = 0
+  float z_min = 0.f;                      ///< m, lowest return of the cell
+  float elevation = 0.f;                  ///< m, plane height at the cell's centre
+  float predicted = 0.f;                  ///< m, ground height expected from the inner cells
+  float flatness = 0.f;                   ///< m, sqrt of the smallest eigenvalue
+  bool upright = true;
+  CellState state = CellState::kEmpty;
+
+  /// Height of (x, y, z) above the cell's ground plane, along z (m).
+  float height_above(const Point& p) const {
+    return (normal.x() * p.x + normal.y() * p.y + normal.z() * p.z + d) / normal.z();
+  }
+};
+
+// PCA of the cell's low points (within seed_band_m of its lowest return).
+void fit_cell(const PointCloud& cloud, std::span<const std::uint32_t> members, double seed_band_m,
+              float max_cos, float cx, float cy, CellFit& fit) {
+  float z_min = std::numeric_limits<float>::max();
+  for (std::uint32_t i : members) z_min = std::min(z_min, cloud.points[i].z);
+  fit.z_min = z_min;
+  const float band = z_min + float(seed_band_m);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d sq = Eigen::Matrix3d::Zero();
+  int n = 0;
+  for (std::uint32_t i : members) {
+    const Point& p = cloud.points[i];
+    if (p.z > band) continue;
+    const Eigen::Vector3d v(p.x, p.y, p.z);
+    sum += v;
+    sq.noalias() += v * v.transpose();
+    ++n;
+  }
+  const Eigen::Vector3d mean = sum / n;
+  fit.normal = {0.f, 0.f, 1.f};
+  fit.flatness = 0.f;
+  fit.upright = true;
+  if (n >= 4) {
+    const Eigen::Matrix3d cov = sq / n - mean * mean.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+    es.computeDirect(cov);
+    const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(0.0);
+    // Points on a single scan line span one direction only: the plane is undetermined, keep it
+    // horizontal through their mean.
+    if (std::sqrt(ev(1)) > 0.04) {
+      Eigen::Vector3d nrm = es.eigenvectors().col(0);
+      if (nrm.z() < 0) nrm = -nrm;
+      fit.normal = nrm.cast<float>();
+      fit.flatness = float(std::sqrt(ev(0)));
+      fit.upright = fit.normal.z() >= max_cos;
+    }
+  }
+  if (!fit.upright) fit.normal = {0.f, 0.f, 1.f};
+  fit.d = -fit.normal.cast<double>().dot(mean);
+  fit.elevation = -(fit.normal.x() * cx + fit.normal.y() * cy + fit.d) / fit.normal.z();
+}
+
+}  // namespace
+
+GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
+                           const RobustGroundConfig& config) {
+  GroundResult result;
+  result.is_ground.assign(cloud.size(), 0);
+  const double max_slope_rad = config.max_slope_deg * std::numbers::pi / 180.0;
+  // The ground near the sensor as a tilted plane: off-road the vehicle pitches and rolls, and the
+  // mounting height is rarely known to a few centimetres.
+  NearGroundPlane prior = fit_near_ground_plane(cloud, config.near_range_m, max_slope_rad);
+  if (!prior.found) prior.c = -(sensor.mounting_height_m > 0 ? sensor.mounting_height_m : 1.0);
+  result.sensor_height_m = -prior.c / std::sqrt(1.0 + prior.a * prior.a + prior.b * prior.b);
+
+  const PolarGrid grid(config.min_cell_m, config.cell_growth, config.max_range_m,
+                       config.sector_deg);
+  const PolarCells cells = grid.assign(cloud);
+
+  const float max_cos = float(std::cos(max_slope_rad));
+  const double tan_slope = std::tan(max_slope_rad);
+  const double tan_bend = std::tan(config.max_bend_deg * std::numbers::pi / 180.0);
+  std::vector<CellFit> fits(grid.cell_count());
+
+  // Pass 1, per sector from the sensor outward: a cell is ground when its low-point plane is
+  // upright and flat and continues the ground of the inner cells (or, before any, the prior).
+  for (int s = 0; s < grid.sectors(); ++s) {
+    const float a_mid = grid.sector_centre_rad(s);
+    const float ca = std::cos(a_mid), sa = std::sin(a_mid);
+    bool anchored = false;
+    double ref_z = 0.0, ref_r = 0.0, ref_grad = 0.0;
+    for (int b = 0; b < grid.bins(); ++b) {
+      const std::size_t c = grid.cell(b, s);
+      const auto members = cells.members(c);
+      if (members.empty()) continue;
+      const float r_mid = grid.bin_centre_m(b);
+      CellFit& fit = fits[c];
+      fit_cell(cloud, members, config.seed_band_m, max_cos, r_mid * ca, r_mid * sa, fit);
+      double predicted, tolerance;
+      if (anchored) {
+        const double dr = r_mid - ref_r;
+        predicted = ref_z + ref_grad * dr;
+        tolerance = config.max_step_m + tan_bend * dr;
+      } else {
+        predicted = prior.height_at(r_mid * ca, r_mid * sa);
+        tolerance = config.max_step_m + tan_slope * std::max(0.0, r_mid - config.near_range_m);
+      }
+      fit.predicted = float(predicted);
+      const bool continuous = std::abs(fit.elevation - predicted) <= tolerance;
+      const bool flat = fit.flatness <= config.max_flatness_m;
+      if (continuous && fit.upright && flat) {
+        fit.state = CellState::kGround;
+        anchored = true;
+        ref_z = fit.elevation;
+        ref_r = r_mid;
+        // Radial gradient of the cell's plane, to follow a hill outward.
+        const double g = -(fit.normal.x() * ca + fit.normal.y() * sa) / fit.normal.z();
+        ref_grad = std::clamp(g, -tan_slope, tan_slope);
+      } else {
+        fit.state = CellState::kRejected;
+      }
+    }
+  }
+
+  // Pass 2: agreement with the neighbouring cells across sectors. A ground cell standing above
+  // the median of its ground neighbours (a flat roof, a table, a dense bush top) is rejected; a
+  // rejected cell takes the neighbours' median as its expected ground height.
+  std::vector<float> neighbours;
+  std::vector<CellFit> checked = fits;
+  for (int s = 0; s < grid.sectors(); ++s)
+    for (int b = 0; b < grid.bins(); ++b) {
+      const std::size_t c = grid.cell(b, s);
+      if (fits[c].state == CellState::kEmpty) continue;
+      neighbours.clear();
+      for (int ds = -2; ds <= 2; ++ds)
+        for (int db = -1; db <= 1; ++db) {
+          if ((ds == 0 && db == 0) || b + db < 0 || b + db >= grid.bins()) continue;
+          const int sn = (s + ds + grid.sectors()) % grid.sectors();
+          const CellFit& n = fits[grid.cell(b + db, sn)];
+          if (n.state == CellState::kGround) neighbours.push_back(n.elevation);
+        }
+      if (neighbours.size() < 2) continue;
+      auto mid = neighbours.begin() + neighbours.size() / 2;
+      std::nth_element(neighbours.begin(), mid, neighbours.end());
+      const float median = *mid;
+      CellFit& out = checked[c];
+      if (out.state == CellState::kGround && out.elevation > median + float(config.max_step_m)) {
+        out.state = CellState::kRejected;
+      }
+      if (out.state == CellState::kRejected) out.predicted = median;
+    }
+  fits.swap(checked);
+
+  if (std::getenv("FL_DEBUG_CELLS"))
+    for (std::size_t c = 0; c < fits.size(); ++c)
+      if (fits[c].state != CellState::kEmpty)
+        std::fprintf(stderr,
+                     "cell %zu state %d n %zu flat %.3f dz %.3f up %d elev %.2f prior %.2f\n", c,
+                     int(fits[c].state), cells.members(c).size(), fits[c].flatness,
+                     fits[c].elevation - fits[c].predicted, fits[c].upright, fits[c].elevation,
+                     prior.height_at(0, 0));
+  const float above = float(config.ground_above_m), below = float(config.ground_below_m);
+  const float clutter_top = float(config.clutter_height_m);
+  for (std::size_t c = 0; c < fits.size(); ++c) {
+    const CellFit& fit = fits[c];
+    if (fit.state == CellState::kEmpty) continue;
+    if (config.max_clutter_ratio > 0 && fit.state == CellState::kGround) {
+      std::size_t low = 0, clutter = 0;
+      for (std::uint32_t i : cells.members(c)) {
+        const float h = fit.height_above(cloud.points[i]);
+        if (h <= above)
+          ++low;
+        else if (h <= clutter_top)
+          ++clutter;
+      }
+      if (double(clutter) > config.max_clutter_ratio * double(low)) continue;
+    }
+    for (std::uint32_t i : cells.members(c)) {
+      const Point& p = cloud.points[i];
+      const float h = fit.state == CellState::kGround ? fit.height_above(p) : p.z - fit.predicted;
+      if (h <= above && h >= -below) {
+        result.is_ground[i] = 1;
+        ++result.ground_count;
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace fieldlidar::segmentation
