@@ -21,6 +21,7 @@ using Field = pcl::PCLPointField;
 template <typename T, typename Store>
 void extract(const std::uint8_t* data, std::size_t n, std::size_t step, std::size_t offset,
              Store&& store) {
+  if (n == 0) return;  // data may be null for an empty cloud
   const std::uint8_t* p = data + offset;
   for (std::size_t i = 0; i < n; ++i, p += step) {
     T v;
