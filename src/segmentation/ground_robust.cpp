@@ -5,8 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <numbers>
 #include <vector>
 
@@ -170,14 +168,6 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
     }
   fits.swap(checked);
 
-  if (std::getenv("FL_DEBUG_CELLS"))
-    for (std::size_t c = 0; c < fits.size(); ++c)
-      if (fits[c].state != CellState::kEmpty)
-        std::fprintf(stderr,
-                     "cell %zu state %d n %zu flat %.3f dz %.3f up %d elev %.2f prior %.2f\n", c,
-                     int(fits[c].state), cells.members(c).size(), fits[c].flatness,
-                     fits[c].elevation - fits[c].predicted, fits[c].upright, fits[c].elevation,
-                     prior.height_at(0, 0));
   const float above = float(config.ground_above_m), below = float(config.ground_below_m);
   const float clutter_top = float(config.clutter_height_m);
   for (std::size_t c = 0; c < fits.size(); ++c) {
