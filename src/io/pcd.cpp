@@ -1,14 +1,21 @@
 #include "fieldlidar/io/pcd.hpp"
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string_view>
 #include <vector>
 
+#include <pcl/io/lzf.h>
 #include <pcl/io/pcd_io.h>
 
 #include "fieldlidar/core/error.hpp"
@@ -328,6 +335,46 @@ std::string ascii_body(const pcl::PCLPointCloud2& blob) {
   return body;
 }
 
+/// A read-only memory map of a whole file: the body is decoded straight from the page cache
+/// instead of being copied into a buffer first (as PCL's own reader does).
+class MappedFile {
+ public:
+  explicit MappedFile(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw Error(path.string() + ": no such file");
+    if (std::filesystem::is_directory(path, ec))
+      throw Error(path.string() + ": is a folder, expected a file");
+    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0) throw Error(path.string() + ": cannot open for reading");
+    struct stat st {};
+    if (::fstat(fd_, &st) != 0) {
+      ::close(fd_);
+      throw Error(path.string() + ": cannot determine its size");
+    }
+    size_ = static_cast<std::size_t>(st.st_size);
+    if (size_ > 0) {
+      void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd_, 0);
+      if (p == MAP_FAILED) {
+        ::close(fd_);
+        throw Error(path.string() + ": cannot map the file for reading");
+      }
+      data_ = static_cast<const std::byte*>(p);
+    }
+  }
+  ~MappedFile() {
+    if (data_) ::munmap(const_cast<std::byte*>(data_), size_);
+    ::close(fd_);
+  }
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  std::span<const std::byte> bytes() const { return {data_, size_}; }
+
+ private:
+  int fd_ = -1;
+  const std::byte* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
 }  // namespace
 
 PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source) {
@@ -353,43 +400,64 @@ PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source
                        std::to_string(available - 8) + " follow");
   }
 
-  pcl::PCLPointCloud2 blob;
-  std::uint32_t offset = 0;
-  for (std::size_t i = 0; i < h.names.size(); ++i) {
-    Field f;
-    f.name = h.names[i];
-    f.offset = offset;
-    f.datatype = pcl_type(h.types[i], h.sizes[i]);
-    f.count = h.counts[i];
-    offset += h.sizes[i] * h.counts[i];
-    blob.fields.push_back(f);
-  }
-  blob.width = static_cast<std::uint32_t>(h.width);
-  blob.height = static_cast<std::uint32_t>(h.height);
-  blob.point_step = static_cast<std::uint32_t>(h.point_step);
-  blob.row_step = blob.point_step * blob.width;
-  blob.data.resize(data_bytes);
-  if (h.points > 0) {
-    if (h.data_type == 0) {
-      parse_ascii_body(bytes, h, blob, source);
-    } else {
-      // PCL decodes the checked body in place (binary: a copy; binary_compressed: LZF, then the
-      // per-field planes are interleaved back into points).
-      detail::QuietPcl quiet;
-      pcl::PCDReader reader;
-      if (reader.readBodyBinary(reinterpret_cast<const unsigned char*>(bytes.data()), blob,
-                                pcl::PCDReader::PCD_V7, h.data_type == 2,
-                                static_cast<unsigned>(h.data_offset)) < 0 ||
-          blob.data.size() != data_bytes)
-        fail(source, "corrupt binary_compressed data (LZF decompression failed)");
+  const auto width = static_cast<std::uint32_t>(h.width);
+  const auto height = static_cast<std::uint32_t>(h.height);
+  if (h.data_type == 0) {
+    pcl::PCLPointCloud2 blob;
+    std::uint32_t offset = 0;
+    for (std::size_t i = 0; i < h.names.size(); ++i) {
+      Field f;
+      f.name = h.names[i];
+      f.offset = offset;
+      f.datatype = pcl_type(h.types[i], h.sizes[i]);
+      f.count = h.counts[i];
+      offset += h.sizes[i] * h.counts[i];
+      blob.fields.push_back(f);
     }
+    blob.width = width;
+    blob.height = height;
+    blob.point_step = static_cast<std::uint32_t>(h.point_step);
+    blob.row_step = blob.point_step * blob.width;
+    blob.data.resize(data_bytes);
+    if (h.points > 0) parse_ascii_body(bytes, h, blob, source);
+    return detail::from_pcl_cloud2(blob, source);
   }
-  return detail::from_pcl_cloud2(blob, source);
+
+  // Binary bodies are read in place, without PCL's intermediate point-major copy: `binary` is
+  // point-major straight from the file; `binary_compressed` is LZF (PCL's decoder) of field-major
+  // planes, each field's n values contiguous, which the conversion reads directly.
+  const auto* body = reinterpret_cast<const std::uint8_t*>(bytes.data()) + h.data_offset;
+  std::unique_ptr<std::uint8_t[]> planes;
+  if (h.data_type == 2 && h.points > 0) {
+    planes.reset(new std::uint8_t[data_bytes]);
+    const unsigned got = pcl::lzfDecompress(body + 8, get_u32(bytes, h.data_offset), planes.get(),
+                                            static_cast<unsigned>(data_bytes));
+    if (got != data_bytes)
+      fail(source, "corrupt binary_compressed data (LZF decoded " + std::to_string(got) + " of " +
+                       std::to_string(data_bytes) + " bytes)");
+  }
+  std::vector<detail::FieldView> views;
+  std::uint64_t offset = 0;
+  for (std::size_t i = 0; i < h.names.size(); ++i) {
+    detail::FieldView v;
+    v.name = h.names[i];
+    v.datatype = pcl_type(h.types[i], h.sizes[i]);
+    if (h.data_type == 1) {
+      v.base = body + offset;
+      v.stride = h.point_step;
+    } else {
+      v.base = planes.get() + h.points * offset;
+      v.stride = std::size_t(h.sizes[i]) * h.counts[i];
+    }
+    offset += std::uint64_t(h.sizes[i]) * h.counts[i];
+    views.push_back(std::move(v));
+  }
+  return detail::from_field_views(views, width, height, source);
 }
 
 PointCloud read_pcd(const std::filesystem::path& path) {
-  const auto bytes = read_file_bytes(path);
-  return parse_pcd(bytes, path.string());
+  const MappedFile file(path);
+  return parse_pcd(file.bytes(), path.string());
 }
 
 void write_pcd(const std::filesystem::path& path, const PointCloud& cloud,

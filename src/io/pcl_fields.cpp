@@ -31,10 +31,10 @@ void extract(const std::uint8_t* data, std::size_t n, std::size_t step, std::siz
 }
 
 template <typename Store>
-bool visit(const Field& f, const pcl::PCLPointCloud2& blob, std::size_t n, Store&& store) {
-  const auto* d = blob.data.data();
-  const std::size_t s = blob.point_step;
-  const std::size_t o = f.offset;
+bool visit(const FieldView& f, std::size_t n, Store&& store) {
+  const auto* d = f.base;
+  const std::size_t s = f.stride;
+  constexpr std::size_t o = 0;
   switch (f.datatype) {
     case Field::INT8:
       extract<std::int8_t>(d, n, s, o, store);
@@ -104,9 +104,10 @@ std::string lower(std::string s) {
   return s;
 }
 
-const Field* find(const pcl::PCLPointCloud2& blob, std::initializer_list<const char*> names) {
+const FieldView* find(const std::vector<FieldView>& fields,
+                      std::initializer_list<const char*> names) {
   for (const char* name : names)
-    for (const auto& f : blob.fields)
+    for (const auto& f : fields)
       if (lower(f.name) == name) return &f;
   return nullptr;
 }
@@ -126,60 +127,75 @@ PointCloud from_pcl_cloud2(const pcl::PCLPointCloud2& blob, const std::string& s
   if (blob.data.size() < n * blob.point_step)
     throw Error(source + ": point data holds " + std::to_string(blob.data.size()) +
                 " bytes, expected " + std::to_string(n * blob.point_step));
+  std::vector<FieldView> views;
   for (const auto& f : blob.fields) {
     const std::size_t size = type_size(f.datatype);
     if (size == 0 || f.offset + size * std::max<std::uint32_t>(f.count, 1) > blob.point_step)
       throw Error(source + ": field '" + f.name + "' has an unsupported type or lies outside the " +
                   std::to_string(blob.point_step) + "-byte point");
+    views.push_back({f.name, f.datatype, blob.data.data() + f.offset, blob.point_step});
   }
-  const Field* fx = find(blob, {"x"});
-  const Field* fy = find(blob, {"y"});
-  const Field* fz = find(blob, {"z"});
+  return from_field_views(views, blob.width, blob.height, source);
+}
+
+PointCloud from_field_views(const std::vector<FieldView>& blob_fields, std::uint32_t width,
+                            std::uint32_t height, const std::string& source) {
+  const std::size_t n = std::size_t(width) * height;
+  for (const auto& f : blob_fields)
+    if (type_size(f.datatype) == 0)
+      throw Error(source + ": field '" + f.name + "' has an unsupported type");
+  const FieldView* fx = find(blob_fields, {"x"});
+  const FieldView* fy = find(blob_fields, {"y"});
+  const FieldView* fz = find(blob_fields, {"z"});
   if (!fx || !fy || !fz) throw Error(source + ": has no x, y and z fields");
-  for (const Field* f : {fx, fy, fz})
+  for (const FieldView* f : {fx, fy, fz})
     if (f->datatype != Field::FLOAT32 && f->datatype != Field::FLOAT64)
       throw Error(source + ": coordinate field '" + f->name + "' is not float32 or float64");
 
   PointCloud cloud;
   cloud.points.resize(n);
-  cloud.width = blob.width;
-  cloud.height = blob.height;
+  cloud.width = width;
+  cloud.height = height;
   auto& pts = cloud.points;
-  visit(*fx, blob, n, [&](std::size_t i, auto v) { pts[i].x = static_cast<float>(v); });
-  visit(*fy, blob, n, [&](std::size_t i, auto v) { pts[i].y = static_cast<float>(v); });
-  visit(*fz, blob, n, [&](std::size_t i, auto v) { pts[i].z = static_cast<float>(v); });
+  visit(*fx, n, [&](std::size_t i, auto v) { pts[i].x = static_cast<float>(v); });
+  visit(*fy, n, [&](std::size_t i, auto v) { pts[i].y = static_cast<float>(v); });
+  visit(*fz, n, [&](std::size_t i, auto v) { pts[i].z = static_cast<float>(v); });
 
-  if (const Field* f = find(blob, {"intensity", "i"})) {
+  if (const FieldView* f = find(blob_fields, {"intensity", "i"})) {
     cloud.fields.intensity = true;
-    visit(*f, blob, n, [&](std::size_t i, auto v) {
+    visit(*f, n, [&](std::size_t i, auto v) {
       const float x = static_cast<float>(v);
       pts[i].intensity = std::isfinite(x) ? x : 0.f;
     });
   }
-  if (const Field* f = find(blob, {"ring", "channel", "laser_id"})) {
+  if (const FieldView* f = find(blob_fields, {"ring", "channel", "laser_id"})) {
     cloud.fields.ring = true;
-    visit(*f, blob, n, [&](std::size_t i, auto v) {
+    visit(*f, n, [&](std::size_t i, auto v) {
       const double r = static_cast<double>(v);
       pts[i].ring = (r >= 0 && r < Point::kNoRing) ? static_cast<std::uint16_t>(r) : Point::kNoRing;
     });
   }
-  if (const Field* f = find(blob, {"label"})) {
+  if (const FieldView* f = find(blob_fields, {"label"})) {
     cloud.fields.label = true;
     cloud.labels.resize(n);
-    visit(*f, blob, n, [&](std::size_t i, auto v) {
+    visit(*f, n, [&](std::size_t i, auto v) {
       const double l = static_cast<double>(v);
       cloud.labels[i] = (l >= 0 && l <= UINT32_MAX) ? static_cast<std::uint32_t>(l) : 0u;
     });
   }
-  const Field* ft = find(blob, {"timestamp"});
+  const FieldView* ft = find(blob_fields, {"timestamp"});
   const bool named_absolute = ft != nullptr;
-  if (!ft) ft = find(blob, {"t", "time", "time_offset"});
+  if (!ft) ft = find(blob_fields, {"t", "time", "time_offset"});
   if (ft && n > 0) {
-    std::vector<double> t(n);
-    visit(*ft, blob, n, [&](std::size_t i, auto v) { t[i] = static_cast<double>(v); });
+    // Two passes over the field (range, then offsets) rather than a temporary copy.
     double max_abs = 0.0;
-    for (double v : t)
-      if (std::isfinite(v)) max_abs = std::max(max_abs, std::abs(v));
+    double min_nonzero = std::numeric_limits<double>::infinity();
+    visit(*ft, n, [&](std::size_t, auto raw) {
+      const double v = static_cast<double>(raw);
+      if (!std::isfinite(v)) return;
+      max_abs = std::max(max_abs, std::abs(v));
+      if (v != 0.0) min_nonzero = std::min(min_nonzero, v);
+    });
     double unit_s = is_integer(ft->datatype) ? 1e-9 : 1.0;  // integer offsets: ns (Ouster `t`)
     const bool absolute = named_absolute || max_abs * unit_s > 1e3;
     if (absolute) unit_s = absolute_time_unit_s(max_abs);
@@ -187,21 +203,19 @@ PointCloud from_pcl_cloud2(const pcl::PCLPointCloud2& blob, const std::string& s
     // so the sweep start is the earliest non-zero stamp and zero stamps get offset 0.
     double t0 = 0.0;
     if (absolute) {
-      t0 = std::numeric_limits<double>::infinity();
-      for (double v : t)
-        if (std::isfinite(v) && v != 0.0) t0 = std::min(t0, v);
-      if (!std::isfinite(t0)) t0 = 0.0;
+      t0 = std::isfinite(min_nonzero) ? min_nonzero : 0.0;
       cloud.stamp_s = t0 * unit_s;
     }
-    for (std::size_t i = 0; i < n; ++i) {
-      const bool known = std::isfinite(t[i]) && !(absolute && t[i] == 0.0);
-      pts[i].time = known ? static_cast<float>((t[i] - t0) * unit_s) : 0.f;
-    }
+    visit(*ft, n, [&](std::size_t i, auto raw) {
+      const double v = static_cast<double>(raw);
+      const bool known = std::isfinite(v) && !(absolute && v == 0.0);
+      pts[i].time = known ? static_cast<float>((v - t0) * unit_s) : 0.f;
+    });
     cloud.fields.time = true;
   }
 
   // NaN coordinates: no-returns of an organized scan, errors otherwise.
-  const bool organized = blob.height > 1;
+  const bool organized = height > 1;
   std::size_t nan_count = 0;
   for (std::size_t i = 0; i < n; ++i) {
     Point& p = pts[i];

@@ -2,7 +2,9 @@
 // Conversion between pcl::PCLPointCloud2 (the field-wise blob PCL's PCD and PLY readers produce)
 // and fieldlidar::PointCloud. Private to io/: PCL never appears in a public header.
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/console/print.h>
@@ -21,6 +23,20 @@ namespace fieldlidar::io::detail {
 /// all-zero point (Point::is_valid() is false) so rows and columns stay aligned; in an unorganized
 /// cloud, or when every point is NaN, they are an error naming `source`.
 PointCloud from_pcl_cloud2(const pcl::PCLPointCloud2& blob, const std::string& source);
+
+/// One field of n points: the value of point i is at base + i * stride (a PCLPointField::
+/// datatype). Points stored point-major (binary PCD) have stride = point size; field-major
+/// planes (decompressed binary_compressed PCD) have stride = field size.
+struct FieldView {
+  std::string name;
+  std::uint8_t datatype = 0;
+  const std::uint8_t* base = nullptr;
+  std::size_t stride = 0;
+};
+
+/// The same conversion as from_pcl_cloud2 from views the caller has bounds-checked.
+PointCloud from_field_views(const std::vector<FieldView>& fields, std::uint32_t width,
+                            std::uint32_t height, const std::string& source);
 
 /// x y z intensity (float32), ring (uint16) when filled, time (float32 offset, s) or, when
 /// stamp_s != 0, timestamp (float64 absolute, s), label (uint32) when the cloud is labelled.

@@ -12,12 +12,12 @@
 namespace fieldlidar::io {
 
 /// Reads a PCD file. The header is parsed and checked against the file size before anything is
-/// allocated; the body is decoded by PCL's PCDReader (incl. LZF for binary_compressed) and then
-/// converted field by field. Fields: x y z (required), intensity, ring, label, and time (`t`,
-/// `time` offsets or an absolute `timestamp`: cloud.stamp_s = earliest stamp, Point::time = offset,
-/// s). Organized clouds keep width x height; their NaN points become all-zero no-returns.
-/// Throws fieldlidar::Error naming the file for a missing file, a malformed or truncated header or
-/// body, or NaN coordinates in an unorganized cloud.
+/// allocated; binary bodies are converted field by field in place (binary_compressed through
+/// PCL's LZF decoder), ascii ones parsed strictly. Fields: x y z (required), intensity, ring,
+/// label, and time (`t`, `time` offsets or an absolute `timestamp`: cloud.stamp_s = earliest stamp,
+/// Point::time = offset, s). Organized clouds keep width x height; their NaN points become all-zero
+/// no-returns. Throws fieldlidar::Error naming the file for a missing file, a malformed or
+/// truncated header or body, or NaN coordinates in an unorganized cloud.
 PointCloud read_pcd(const std::filesystem::path& path);
 /// The same from bytes held in memory (`source` names them in errors).
 PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source);
