@@ -1,0 +1,80 @@
+// FrameSource over cloud files: single file, folder and glob in name order; dispatch errors.
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/io/kitti_bin.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar {
+namespace {
+
+void write_bin(const std::filesystem::path& p, float x, std::size_t n) {
+  PointCloud c;
+  for (std::size_t i = 0; i < n; ++i) {
+    Point q;
+    q.x = x;
+    q.y = float(i);
+    c.push_back(q);
+  }
+  io::write_kitti_bin(p, c);
+}
+
+TEST(FrameSource, FolderAndGlobIterateInNameOrder) {
+  const auto dir = test::temp_dir("frame_source_folder");
+  write_bin(dir / "b_002.bin", 2, 3);
+  write_bin(dir / "b_000.bin", 0, 1);
+  write_bin(dir / "b_001.bin", 1, 2);
+  write_bin(dir / "other.bin", 9, 4);
+  std::ofstream(dir / "notes.txt") << "not a cloud";
+  auto src = io::FrameSource::open(dir);
+  EXPECT_EQ(src->format(), "kitti-bin");
+  std::vector<float> xs;
+  while (auto f = src->next()) {
+    EXPECT_EQ(f->index, xs.size());
+    xs.push_back(f->cloud.points[0].x);
+  }
+  EXPECT_EQ(xs, (std::vector<float>{0, 1, 2, 9}));
+  EXPECT_DOUBLE_EQ(src->progress(), 1.0);
+  auto glob = io::FrameSource::open(dir / "b_*.bin");
+  std::vector<std::size_t> sizes;
+  while (auto f = glob->next()) sizes.push_back(f->cloud.size());
+  EXPECT_EQ(sizes, (std::vector<std::size_t>{1, 2, 3}));
+  EXPECT_THROW(io::FrameSource::open(dir / "zzz_*.bin"), Error);
+}
+
+TEST(FrameSource, SingleKittiFile) {
+  FIELDLIDAR_REQUIRE_DATA("kitti00/000000.bin");
+  auto src = io::FrameSource::open(test::data_file("kitti00/000000.bin"));
+  const auto f = src->next();
+  ASSERT_TRUE(f);
+  EXPECT_GT(f->cloud.size(), 100000u);
+  EXPECT_FALSE(src->next());
+  EXPECT_TRUE(src->imu_until(1e18).empty());
+}
+
+TEST(FrameSource, UnknownInputsGiveClearErrors) {
+  const auto dir = test::temp_dir("frame_source_errors");
+  EXPECT_THROW(io::FrameSource::open(dir / "missing.pcap"), Error);
+  std::ofstream(dir / "x.txt") << "text";
+  EXPECT_THROW(io::FrameSource::open(dir / "x.txt"), Error);
+  std::ofstream(dir / "junk.pcap") << "not a capture at all";
+  EXPECT_THROW(io::FrameSource::open(dir / "junk.pcap"), Error);
+  std::ofstream(dir / "junk.bag") << "not a bag";
+  EXPECT_THROW(io::FrameSource::open(dir / "junk.bag"), Error);
+}
+
+TEST(FrameSource, OusterCaptureWithoutMetadataSaysHowToGiveIt) {
+  FIELDLIDAR_REQUIRE_DATA("ouster_pcap/OS-1-64_1024x10_fw20.pcap");
+  try {
+    io::FrameSource::open(test::data_file("ouster_pcap/OS-1-64_1024x10_fw20.pcap"));
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--metadata"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace fieldlidar

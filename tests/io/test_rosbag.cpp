@@ -1,0 +1,128 @@
+// ROS1 bags: LaserScan as a one-ring cloud, PoseArray, topic counts, topic errors, message bytes.
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/io/rosbag_reader.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar {
+namespace {
+
+const char* kPositive = "legs_2d/positive_1_extracted.bag";
+const char* kNegative = "legs_2d/negative_2.bag";
+
+TEST(Rosbag, TopicCountsOfTheAnnotatedLegBag) {
+  FIELDLIDAR_REQUIRE_DATA(kPositive);
+  const auto counts = io::bag_topic_counts(test::data_file(kPositive));
+  ASSERT_TRUE(counts.count("/training_scan"));
+  ASSERT_TRUE(counts.count("/leg_cluster_positions"));
+  EXPECT_GT(counts.at("/training_scan"), 10u);
+  // One annotation per scan.
+  EXPECT_EQ(counts.at("/leg_cluster_positions"), counts.at("/training_scan"));
+}
+
+TEST(Rosbag, LaserScansBecomeOneRingCloudsInAngleOrder) {
+  FIELDLIDAR_REQUIRE_DATA(kPositive);
+  auto src = io::FrameSource::open(test::data_file(kPositive));  // the only scan topic
+  EXPECT_EQ(src->format(), "rosbag");
+  std::size_t n = 0;
+  double last_stamp = 0;
+  while (auto f = src->next()) {
+    const auto& c = f->cloud;
+    EXPECT_EQ(f->topic, "/training_scan");
+    ASSERT_GT(c.size(), 50u);
+    EXPECT_EQ(c.ring_count(), 1u);
+    EXPECT_GE(f->stamp_s, last_stamp);
+    last_stamp = f->stamp_s;
+    double prev_angle = -10;
+    for (const auto& p : c.points) {
+      ASSERT_EQ(p.ring, 0);
+      ASSERT_EQ(p.z, 0.f);
+      const double a = std::atan2(p.y, p.x);
+      ASSERT_GT(a, prev_angle - 1e-6);  // increasing scan angle (scan within -pi..pi)
+      prev_angle = a;
+      const double r = std::hypot(p.x, p.y);
+      ASSERT_GT(r, 0.0);
+      ASSERT_LT(r, 60.0);
+    }
+    ++n;
+  }
+  EXPECT_EQ(n, io::bag_topic_counts(test::data_file(kPositive)).at("/training_scan"));
+}
+
+TEST(Rosbag, PoseArraysHoldTheAnnotatedLegPositions) {
+  FIELDLIDAR_REQUIRE_DATA(kPositive);
+  const auto arrays = io::read_pose_arrays(test::data_file(kPositive), "/leg_cluster_positions");
+  ASSERT_FALSE(arrays.empty());
+  std::size_t legs = 0;
+  for (const auto& a : arrays) {
+    EXPECT_GT(a.stamp_s, 1e8);
+    for (const auto& p : a.poses) {
+      ++legs;
+      EXPECT_LT(p.translation().head<2>().norm(), 30.0);  // legs within the laser's reach
+    }
+  }
+  EXPECT_GT(legs, arrays.size() / 2);
+  EXPECT_THROW(io::read_pose_arrays(test::data_file(kPositive), "/training_scan"), Error);
+}
+
+TEST(Rosbag, MissingOrAmbiguousTopicListsTheTopics) {
+  FIELDLIDAR_REQUIRE_DATA(kNegative);
+  io::SourceOptions o;
+  try {
+    io::FrameSource::open(test::data_file(kNegative), o);
+    FAIL() << "three scan topics: must ask for one";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--topic"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/rear_scan"), std::string::npos) << e.what();
+  }
+  o.topic = "/front_scan";
+  try {
+    io::FrameSource::open(test::data_file(kNegative), o);
+    FAIL() << "a missing topic must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no topic '/front_scan'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/left_scan"), std::string::npos) << e.what();
+  }
+  o.topic = "/left_scan";
+  auto src = io::FrameSource::open(test::data_file(kNegative), o);
+  const auto f = src->next();
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->topic, "/left_scan");
+}
+
+/// Serializes a LaserScan by hand in the ROS1 wire format.
+std::vector<std::uint8_t> laser_scan_bytes(const std::vector<float>& ranges) {
+  std::vector<std::uint8_t> b;
+  auto put = [&](const void* p, std::size_t n) {
+    const auto* c = static_cast<const std::uint8_t*>(p);
+    b.insert(b.end(), c, c + n);
+  };
+  const std::uint32_t seq = 1, sec = 100, nsec = 500000000, frame_len = 4;
+  put(&seq, 4), put(&sec, 4), put(&nsec, 4), put(&frame_len, 4), put("scan", 4);
+  const float head[7] = {-1.0f, 1.0f, 0.5f, 0.001f, 0.1f, 0.2f, 10.0f};
+  put(head, sizeof head);
+  const std::uint32_t n = std::uint32_t(ranges.size()), zero = 0;
+  put(&n, 4), put(ranges.data(), 4 * ranges.size()), put(&zero, 4);
+  return b;
+}
+
+TEST(Rosbag, LaserScanWireFormat) {
+  const auto bytes = laser_scan_bytes({1.0f, 0.1f, 2.0f, std::nanf(""), 20.0f});
+  const auto c = io::parse_laser_scan(bytes);
+  EXPECT_DOUBLE_EQ(c.stamp_s, 100.5);
+  ASSERT_EQ(c.size(), 2u);  // 0.1 < range_min, NaN, 20 > range_max skipped
+  EXPECT_NEAR(c.points[0].x, std::cos(-1.0), 1e-6);
+  EXPECT_NEAR(c.points[0].y, std::sin(-1.0), 1e-6);
+  EXPECT_NEAR(c.points[1].x, 2 * std::cos(0.0), 1e-6);
+  EXPECT_NEAR(c.points[1].time, 0.002, 1e-7);  // beam 2 of the scan
+  auto cut = bytes;
+  cut.resize(cut.size() - 9);
+  EXPECT_THROW(io::parse_laser_scan(cut), Error);
+  EXPECT_THROW(io::parse_point_cloud2(bytes), Error);
+}
+
+}  // namespace
+}  // namespace fieldlidar
