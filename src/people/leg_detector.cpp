@@ -49,12 +49,23 @@ bool fit_circle(std::span<const Eigen::Vector2d> pts, Eigen::Vector2d& center, d
 
 }  // namespace
 
-ArcFeatures compute_arc_features(std::span<const Eigen::Vector2d> pts) {
+ArcFeatures compute_arc_features(std::span<const Eigen::Vector2d> pts, double path_step_m) {
   ArcFeatures f;
   f.points = pts.size();
   if (pts.empty()) return f;
   // seed 000, step 3, formula 1): path length over consecutive points and chord first-to-last
-  for (std::size_t j = 0; j + 1 < pts.size(); ++j) f.path_m += (pts[j + 1] - pts[j]).norm();
+  if (path_step_m > 0) {
+    Eigen::Vector2d last = pts.front();
+    for (std::size_t j = 1; j < pts.size(); ++j) {
+      const double d = (pts[j] - last).norm();
+      if (d >= path_step_m || j + 1 == pts.size()) {
+        f.path_m += d;
+        last = pts[j];
+      }
+    }
+  } else {
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) f.path_m += (pts[j + 1] - pts[j]).norm();
+  }
   f.chord_m = (pts.back() - pts.front()).norm();
   // formula 2): the bend
   f.curve = f.chord_m > 0 ? f.path_m / f.chord_m : std::numeric_limits<double>::infinity();
@@ -64,6 +75,33 @@ ArcFeatures compute_arc_features(std::span<const Eigen::Vector2d> pts) {
     f.circle_radius_m = std::numeric_limits<double>::infinity();
     f.circle_rms_m = std::numeric_limits<double>::infinity();
   }
+  return f;
+}
+
+std::vector<Eigen::Vector2d> smooth_arc(std::span<const Eigen::Vector2d> pts, int window) {
+  std::vector<Eigen::Vector2d> out(pts.begin(), pts.end());
+  const int half = std::max(window, 1) / 2;
+  if (half == 0) return out;
+  const int n = int(pts.size());
+  for (int j = 0; j < n; ++j) {
+    const int h = std::min({half, j, n - 1 - j});  // symmetric window keeps the end points
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    for (int k = j - h; k <= j + h; ++k) sum += pts[std::size_t(k)];
+    out[std::size_t(j)] = sum / double(2 * h + 1);
+  }
+  return out;
+}
+
+ArcFeatures arc_features(std::span<const Eigen::Vector2d> pts, const LegDetectorConfig& c) {
+  if (c.smooth_window <= 1) return compute_arc_features(pts, c.path_step_m);
+  const auto smooth = smooth_arc(pts, c.smooth_window);
+  auto f = compute_arc_features(smooth, c.path_step_m);
+  // Position and circle from the measured points, not the smoothed ones.
+  const auto raw = compute_arc_features(pts, 0.0);
+  f.midpoint_m = raw.midpoint_m;
+  f.circle_center_m = raw.circle_center_m;
+  f.circle_radius_m = raw.circle_radius_m;
+  f.circle_rms_m = raw.circle_rms_m;
   return f;
 }
 
@@ -107,7 +145,7 @@ LegDetection detect_legs_2d(std::span<const Eigen::Vector2d> ordered_points,
   const auto segments = split_by_jump(pts, config.segment_jump_m);
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const auto [b, e] = segments[s];
-    const auto arc = compute_arc_features(std::span(pts).subspan(b, e - b));
+    const auto arc = arc_features(std::span(pts).subspan(b, e - b), config);
     ++out.arcs_tested;
     if (classify_arc(arc, config) == ArcVerdict::kLeg)
       out.legs.push_back({arc.midpoint_m, 1, std::int32_t(s)});
@@ -122,6 +160,7 @@ LegDetection detect_legs_3d(const PointCloud& cloud,
   LegDetection out;
   std::vector<std::pair<double, std::uint32_t>> by_azimuth;
   std::vector<Eigen::Vector2d> ring_pts;
+  std::vector<std::pair<std::size_t, std::size_t>> pieces, segments;
   struct Group {
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     int arcs = 0;
@@ -156,14 +195,27 @@ LegDetection detect_legs_3d(const PointCloud& cloud,
       const auto ring = cloud.points[by_azimuth[s].second].ring;
       std::size_t e = s;
       ring_pts.clear();
+      pieces.clear();
+      std::size_t piece_begin = 0;
       while (e < by_azimuth.size() && cloud.points[by_azimuth[e].second].ring == ring) {
         const auto& p = cloud.points[by_azimuth[e].second];
         ring_pts.emplace_back(p.x, p.y);  // projection onto the ring's plane
+        if (e > s && config.split_azimuth_gap_rad > 0 &&
+            by_azimuth[e].first - by_azimuth[e - 1].first > config.split_azimuth_gap_rad) {
+          pieces.emplace_back(piece_begin, ring_pts.size() - 1);
+          piece_begin = ring_pts.size() - 1;
+        }
         ++e;
       }
+      pieces.emplace_back(piece_begin, ring_pts.size());
       s = e;
-      for (const auto& [b, en] : split_by_jump(ring_pts, config.segment_jump_m)) {
-        const auto arc = compute_arc_features(std::span(ring_pts).subspan(b, en - b));
+      segments.clear();
+      for (const auto& [pb, pe] : pieces)
+        for (const auto& [b, en] :
+             split_by_jump(std::span(ring_pts).subspan(pb, pe - pb), config.segment_jump_m))
+          segments.emplace_back(pb + b, pb + en);
+      for (const auto& [b, en] : segments) {
+        const auto arc = arc_features(std::span(ring_pts).subspan(b, en - b), config);
         ++out.arcs_tested;
         if (classify_arc(arc, config) != ArcVerdict::kLeg) continue;
         Group* best = nullptr;

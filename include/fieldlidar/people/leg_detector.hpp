@@ -40,7 +40,17 @@ struct LegDetectorConfig {
   // --- ring segmentation (2D scans and the rings of a 3D cluster) ---
   double segment_jump_m = 0.13;      ///< consecutive points farther apart start a new segment (m)
   double leg_merge_radius_m = 0.15;  ///< arcs of different rings within this form one leg (m)
+  /// 3D: a ring's points of one cluster also split where consecutive points are farther apart in
+  /// azimuth than this (rad; 0 = off): the beams between them hit something else (the gap between
+  /// two legs side by side is narrower than segment_jump_m but shows as missing columns).
+  double split_azimuth_gap_rad = 0.0;
   // --- additions beyond the seed (switchable) ---
+  /// Path length over points at least this far apart (m; 0 = every point, the seed's formula).
+  /// Range noise on densely sampled arcs inflates L_k (2 cm noise on 1 cm spacing triples it);
+  /// walking the arc in steps of a few cm measures its shape instead of the noise.
+  double path_step_m = 0.0;
+  /// Moving average over this many consecutive points (odd; <= 1 = off) before L_k and D_k.
+  int smooth_window = 1;
   bool use_min_points = false;
   int min_points = 4;  ///< an arc needs at least this many points
   bool use_chord_max = false;
@@ -66,7 +76,18 @@ struct ArcFeatures {
 };
 
 /// Seed 000, step 3, formulas 1)-2): L_k, D_k, Curve of ordered points; plus a circle fit.
-ArcFeatures compute_arc_features(std::span<const Eigen::Vector2d> ordered_points);
+/// With `path_step_m` > 0, L_k and D_k are measured over the points kept when walking the arc and
+/// skipping points nearer than that to the last kept one (the last point is always kept).
+ArcFeatures compute_arc_features(std::span<const Eigen::Vector2d> ordered_points,
+                                 double path_step_m = 0.0);
+
+/// Moving average of ordered points over `window` neighbours (shrunk at the ends); <= 1 copies.
+std::vector<Eigen::Vector2d> smooth_arc(std::span<const Eigen::Vector2d> ordered_points,
+                                        int window);
+
+/// Features of one arc with the detector's preprocessing (smoothing, path step) applied.
+ArcFeatures arc_features(std::span<const Eigen::Vector2d> ordered_points,
+                         const LegDetectorConfig& config);
 
 /// Splits points in scan order into segments wherever two consecutive points are farther apart
 /// than `jump_m`; returns [begin, end) index pairs.

@@ -1,0 +1,83 @@
+#pragma once
+/// \file The follow pipeline in closed loop with the simulator: each frame the mower pose gives
+/// the sensor pose, the simulator scans, the pipeline perceives and commands the wheels, and the
+/// mower moves by unicycle kinematics of the commanded wheel speeds. World frame, m, s, rad.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/follow/pipeline.hpp"
+#include "fieldlidar/sim/scene.hpp"
+#include "fieldlidar/sim/scenes.hpp"
+
+namespace fieldlidar::follow {
+
+enum class Scenario { kDefault, kCrossing, kStop, kFast, kOccluded };
+std::string to_string(Scenario s);
+/// "default", "crossing", "stop", "fast", "occluded"; nullopt otherwise.
+std::optional<Scenario> scenario_from_string(const std::string& name);
+/// The lawn scene options of a scenario.
+sim::LawnConfig lawn_config(Scenario s);
+
+struct ClosedLoopConfig {
+  FollowConfig follow;
+  double max_time_s = 0;        ///< 0: 1.6 x the operator's lap time + 20 s
+  double stop_fraction = 0.85;  ///< the stop command comes once this share of the loop is recorded
+  double stop_radius_m = 0.4;   ///< ... and the mower is back within this of the boundary start
+  std::uint64_t sim_seed = 1;   ///< sensor noise seed
+  std::uint16_t operator_id = 1;  ///< the simulated person who walks the boundary
+};
+
+/// One row of follow_log.csv.
+struct LogRow {
+  double t_s = 0;
+  double mower_x = 0, mower_y = 0, mower_yaw = 0;
+  double est_x = NAN, est_y = NAN;  ///< target estimate (NaN when none)
+  double true_x = 0, true_y = 0;    ///< the operator's true position
+  double distance_m = NAN;          ///< L used by the safety rule (estimated), NaN when lost
+  double true_distance_m = 0;
+  double wheel_left = 0, wheel_right = 0;  ///< commanded wheel speeds (m/s)
+  FollowState state = FollowState::kIdle;
+  std::int64_t target_id = -1;
+  std::uint32_t target_points = 0;  ///< returns on the operator in this sweep (truth)
+  std::size_t people_detected = 0;
+  double perception_ms = 0;
+};
+
+struct ClosedLoopResult {
+  std::vector<LogRow> rows;
+  BoundaryPolygon boundary;
+  std::vector<Eigen::Vector2d> operator_loop;  ///< truth: the operator's closed path
+  std::vector<Eigen::Vector2d> mower_path;
+  std::vector<Eigen::Vector2d> trail;  ///< the operator's estimated breadcrumbs
+  bool stopped_by_command = false;
+  double duration_s = 0;
+  PolygonDistance boundary_error;           ///< recorded polygon vs operator_loop
+  std::size_t frames_moving_too_close = 0;  ///< wheels turning while the true L < L_s
+  std::size_t frames_following = 0;
+  std::size_t target_switches = 0;    ///< changes of the target id after the first choice
+  std::size_t frames_target_off = 0;  ///< following while the estimate is > 0.5 m off the operator
+  std::optional<std::uint32_t> first_target_id;
+  // Occlusions of the operator lasting >= 2 frames:
+  std::size_t occlusions = 0;
+  int max_stop_delay_frames = -1;    ///< frames from the first hidden sweep to wheels at 0
+  int max_resume_delay_frames = -1;  ///< frames from visible again to moving again (-1 never)
+  bool resumed_after_every_occlusion = true;
+  double mean_perception_ms = 0;
+};
+
+/// Runs the closed loop on `scene` (a lawn scene) until the stop command or the time limit.
+ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sensor,
+                                 const ClosedLoopConfig& config);
+
+/// CSV text of the log with the header
+/// t,mower_x,mower_y,mower_yaw,est_x,est_y,true_target_x,true_target_y,distance,true_distance,
+/// wheel_left,wheel_right,state,target_id,target_points,people_detected
+std::string log_csv(const std::vector<LogRow>& rows);
+
+}  // namespace fieldlidar::follow

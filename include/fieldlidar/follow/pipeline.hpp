@@ -1,0 +1,93 @@
+#pragma once
+/// \file The follow pipeline (seed 000, steps 1-8) for one sweep: ground -> clusters -> legs ->
+/// tracker -> safety + controller -> boundary. State (tracker, trail, drive, boundary) lives in
+/// FollowPipeline; each step is a free function of people/, segmentation/ and follow/.
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/core/pose.hpp"
+#include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/follow/boundary.hpp"
+#include "fieldlidar/follow/controller.hpp"
+#include "fieldlidar/people/leg_detector.hpp"
+#include "fieldlidar/people/tracker.hpp"
+#include "fieldlidar/segmentation/clustering.hpp"
+#include "fieldlidar/segmentation/ground.hpp"
+
+namespace fieldlidar::follow {
+
+struct FollowConfig {
+  segmentation::GroundConfig ground;
+  segmentation::EuclideanClusterConfig clusters = default_clusters();
+  people::LegDetectorConfig legs = default_3d_legs();
+  double leg_height_min_m = 0.08;  ///< leg arcs are taken from points this high above ground
+  double leg_height_max_m = 0.95;  ///< up to this (m); torso and arms are above
+  people::TrackerConfig tracker;
+  DriveConfig drive;
+  SafetyConfig safety;
+  BoundaryConfig boundary;
+  /// The target: this track id when set (the operator's choice), else the nearest confirmed
+  /// person within `auto_select_range_m` ahead of the mower.
+  std::optional<std::uint32_t> target_id;
+  double auto_select_range_m = 6.0;
+
+  /// Leg bounds for a multi-beam sensor at mower height (from `legs-train` on simulated people).
+  static people::LegDetectorConfig default_3d_legs();
+  /// Legs and the gap between them in one cluster; small far clusters kept.
+  static segmentation::EuclideanClusterConfig default_clusters();
+};
+
+/// Perception of one sweep, positions in the world frame (m).
+struct Perception {
+  std::vector<Eigen::Vector2d> legs_m;
+  std::vector<Eigen::Vector2d> people_m;
+  std::size_t ground_points = 0;
+  std::size_t clusters = 0;
+  double sensor_height_m = 0;
+};
+
+/// Steps 1-3: ground, clusters, leg arcs and pairing for a sweep in the lidar frame (de-skewed to
+/// `T_world_lidar`), results transformed into the world frame.
+Perception perceive(const PointCloud& cloud_lidar, const SensorModel& sensor,
+                    const Pose& T_world_lidar, const FollowConfig& config);
+
+struct FrameOutput {
+  Perception perception;
+  std::optional<std::uint32_t> target_id;
+  std::optional<Eigen::Vector2d> target_world_m;  ///< the target's filtered position
+  FollowController::Output control;
+};
+
+class FollowPipeline {
+ public:
+  FollowPipeline(const SensorModel& sensor, const FollowConfig& config);
+
+  /// One sweep: `cloud_lidar` de-skewed to `T_world_lidar` (the sensor pose at `stamp_s`),
+  /// `mower` the planar pose the wheel command applies from; `dt_s` the control period.
+  FrameOutput step(const PointCloud& cloud_lidar, const Pose& T_world_lidar, const Pose2& mower,
+                   double stamp_s, double dt_s);
+
+  /// The stop command: closes the recorded boundary.
+  BoundaryPolygon stop() const { return recorder_.close(); }
+
+  const people::PersonTracker& tracker() const { return tracker_; }
+  people::PersonTracker& tracker() { return tracker_; }
+  const Trail& trail() const { return trail_; }
+  const BoundaryRecorder& recorder() const { return recorder_; }
+  const FollowConfig& config() const { return config_; }
+
+ private:
+  SensorModel sensor_;
+  FollowConfig config_;
+  people::PersonTracker tracker_;
+  FollowController controller_;
+  Trail trail_;
+  BoundaryRecorder recorder_;
+};
+
+}  // namespace fieldlidar::follow

@@ -1,0 +1,114 @@
+#include "fieldlidar/follow/pipeline.hpp"
+
+#include <cmath>
+
+namespace fieldlidar::follow {
+
+people::LegDetectorConfig FollowConfig::default_3d_legs() {
+  people::LegDetectorConfig c;
+  c.min_rings = 2;
+  c.curve_max = 2.2;
+  c.path_min_m = 0.04;
+  c.path_max_m = 0.40;
+  c.pair_distance_max_m = 0.70;
+  c.range_min_m = 0.5;
+  c.range_max_m = 12.0;
+  c.segment_jump_m = 0.12;
+  c.path_step_m = 0.03;
+  c.smooth_window = 5;
+  c.split_azimuth_gap_rad = 0.0;  // set from the sensor's column spacing in perceive()
+  c.use_chord_max = true;
+  c.chord_max_m = 0.22;
+  return c;
+}
+
+segmentation::EuclideanClusterConfig FollowConfig::default_clusters() {
+  segmentation::EuclideanClusterConfig c;
+  c.tolerance_m = 0.35;
+  c.min_points = 5;
+  return c;
+}
+
+Perception perceive(const PointCloud& cloud, const SensorModel& sensor, const Pose& T_world_lidar,
+                    const FollowConfig& config) {
+  Perception out;
+  // Steps 1-2: ground removed, the rest clustered.
+  const auto ground = segmentation::segment_ground(cloud, sensor, config.ground);
+  out.ground_points = ground.ground_count;
+  double h = ground.sensor_height_m;
+  if (!(h > 0.05)) h = sensor.mounting_height_m;
+  out.sensor_height_m = h;
+  // Only points in the leg height band take part (the torso is not a leg).
+  std::vector<std::uint8_t> skip(ground.is_ground);
+  skip.resize(cloud.size(), 0);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const double above = double(cloud.points[i].z) + h;
+    if (above < config.leg_height_min_m || above > config.leg_height_max_m) skip[i] = 1;
+  }
+  const auto clusters = segmentation::cluster_euclidean(cloud, skip, config.clusters);
+  out.clusters = clusters.clusters.size();
+  std::vector<std::vector<std::uint32_t>> indices;
+  indices.reserve(clusters.clusters.size());
+  for (const auto& c : clusters.clusters) indices.push_back(c.indices);
+  // Step 3: leg arcs on several rings, legs paired into people.
+  people::LegDetectorConfig legs = config.legs;
+  if (legs.split_azimuth_gap_rad <= 0)
+    legs.split_azimuth_gap_rad = 2.5 * sensor.horizontal_resolution_rad();
+  const auto det = people::detect_legs_3d(cloud, indices, legs);
+  auto to_world = [&](const Eigen::Vector2d& p) {
+    return (T_world_lidar * Eigen::Vector3d(p.x(), p.y(), 0.0)).head<2>().eval();
+  };
+  for (const auto& l : det.legs) out.legs_m.push_back(to_world(l.position_m));
+  for (const auto& p : det.people) out.people_m.push_back(to_world(p.position_m));
+  return out;
+}
+
+FollowPipeline::FollowPipeline(const SensorModel& sensor, const FollowConfig& config)
+    : sensor_(sensor),
+      config_(config),
+      tracker_(config.tracker),
+      controller_(config.drive, config.safety),
+      trail_(config.drive.trail_spacing_m),
+      recorder_(config.boundary) {}
+
+FrameOutput FollowPipeline::step(const PointCloud& cloud, const Pose& T_world_lidar,
+                                 const Pose2& mower, double stamp_s, double dt_s) {
+  FrameOutput out;
+  out.perception = perceive(cloud, sensor_, T_world_lidar, config_);
+  // Step 5: Kalman tracking in the world frame.
+  const auto upd = tracker_.update(stamp_s, out.perception.people_m);
+  // Step 4: the target, by id when the operator chose one, else the person ahead.
+  if (!tracker_.target_id()) {
+    if (config_.target_id) {
+      tracker_.select_target(*config_.target_id);
+    } else {
+      const Eigen::Vector2d heading(std::cos(mower.yaw_rad), std::sin(mower.yaw_rad));
+      const people::Track* best = nullptr;
+      for (const auto& t : tracker_.tracks()) {
+        const Eigen::Vector2d d = t.position() - mower.xy();
+        if (!t.confirmed || t.missed_frames > 0 || d.norm() > config_.auto_select_range_m ||
+            d.dot(heading) <= 0)
+          continue;
+        if (!best || d.norm() < (best->position() - mower.xy()).norm()) best = &t;
+      }
+      if (best) tracker_.select_target(best->id);
+    }
+  }
+  out.target_id = tracker_.target_id();
+  std::optional<Eigen::Vector2d> target_mower;
+  if (const auto* t = tracker_.target()) {
+    out.target_world_m = t->position();
+    if (upd.target_updated) trail_.add(t->position());
+    // The target in the mower frame (seed 000: P(xc, yc)).
+    const Eigen::Vector2d d = t->position() - mower.xy();
+    const double c = std::cos(mower.yaw_rad), s = std::sin(mower.yaw_rad);
+    target_mower = Eigen::Vector2d(c * d.x() + s * d.y(), -s * d.x() + c * d.y());
+  }
+  // Steps 6-7: safety rule, then the drive.
+  out.control = controller_.step(mower, target_mower, trail_, dt_s);
+  // Step 8: the boundary is where the mower drives while following.
+  recorder_.record(mower.xy(), out.control.state == FollowState::kFollowing);
+  return out;
+}
+
+}  // namespace fieldlidar::follow
