@@ -97,7 +97,9 @@ TEST(Las, EveryPointFormatAndVersionDecodes) {
       EXPECT_EQ(las.origin_m, Eigen::Vector3d(512000, 5301000, 0));
       const bool gps = format == 1 || format >= 3;
       EXPECT_EQ(las.cloud.fields.time, gps);
-      if (gps) EXPECT_DOUBLE_EQ(las.cloud.stamp_s, 3.0e8);
+      if (gps) {
+        EXPECT_DOUBLE_EQ(las.cloud.stamp_s, 3.0e8);
+      }
       for (std::size_t i = 0; i < pts.size(); ++i) {
         const auto& p = las.cloud.points[i];
         EXPECT_NEAR(p.x + las.origin_m.x(), pts[i].x, 1e-3);  // 1 mm scale, float32 near 1 km
@@ -105,7 +107,9 @@ TEST(Las, EveryPointFormatAndVersionDecodes) {
         EXPECT_NEAR(p.z + las.origin_m.z(), pts[i].z, 1e-3);
         EXPECT_EQ(p.intensity, pts[i].intensity);
         EXPECT_EQ(las.cloud.labels[i], pts[i].cls);
-        if (gps) EXPECT_NEAR(p.time, 0.001 * i, 1e-6);
+        if (gps) {
+          EXPECT_NEAR(p.time, 0.001 * i, 1e-6);
+        }
       }
     }
   }

@@ -20,7 +20,9 @@ Trajectory spiral() {
 void expect_same(const Trajectory& a, const Trajectory& b, bool times) {
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i) {
-    if (times) EXPECT_NEAR(a[i].stamp_s, b[i].stamp_s, 1e-6);
+    if (times) {
+      EXPECT_NEAR(a[i].stamp_s, b[i].stamp_s, 1e-6);
+    }
     EXPECT_LT((a[i].pose.matrix() - b[i].pose.matrix()).cwiseAbs().maxCoeff(), 1e-9);
   }
 }
