@@ -1,12 +1,20 @@
-// fieldlidar convert IN OUT: convert between point-cloud file formats, chosen by extension.
+// fieldlidar convert IN OUT: convert a cloud file to another format, or a capture, bag, folder or
+// glob into a folder of one file per frame.
 
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 
 #include <fmt/core.h>
 
 #include "commands.hpp"
+#include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
+#include "fieldlidar/io/frame_source.hpp"
 
 namespace fieldlidar::app {
 
@@ -14,22 +22,118 @@ namespace {
 struct ConvertOptions {
   std::string input;
   std::string output;
+  std::string format = "pcd";
+  std::string topic;
+  std::string metadata;
   bool force = false;
   bool ascii = false;
   bool compressed = false;
+  bool partial = false;
+  bool quiet = false;
 };
+
+/// A one-line progress bar on stderr, drawn only when stderr is a terminal.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO)) {}
+  void update(double fraction, std::size_t frames) {
+    if (!enabled_) return;
+    const int width = 40;
+    const int filled = int(fraction * width + 0.5);
+    std::fprintf(
+        stderr, "\r[%s%s] %3d%%  %zu frames", std::string(std::size_t(filled), '#').c_str(),
+        std::string(std::size_t(width - filled), '.').c_str(), int(fraction * 100 + 0.5), frames);
+    std::fflush(stderr);
+  }
+  void done() {
+    if (enabled_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  bool enabled_;
+};
+
+bool single_file_conversion(const ConvertOptions& o) {
+  namespace fs = std::filesystem;
+  const fs::path in(o.input);
+  return fs::is_regular_file(in) && io::cloud_format_of(in) && io::cloud_format_of(o.output) &&
+         !fs::is_directory(o.output);
+}
+
+void convert_stream(const ConvertOptions& o) {
+  namespace fs = std::filesystem;
+  if (o.format != "pcd" && o.format != "bin")
+    throw Error("--format '" + o.format + "': expected pcd or bin");
+  io::SourceOptions so;
+  so.topic = o.topic;
+  so.metadata = o.metadata;
+  auto source = io::FrameSource::open(o.input, so);
+  const fs::path dir(o.output);
+  if (fs::exists(dir) && !fs::is_directory(dir))
+    throw Error(o.output + ": exists and is not a folder (frames are written as " + dir.string() +
+                "/000000." + o.format + ", ...)");
+  fs::create_directories(dir);
+  const fs::path times_path = dir / "times.txt";
+  io::check_writable(times_path, o.force);
+  io::WriteOptions w;
+  w.overwrite = o.force;
+  w.binary = !o.ascii;
+  w.compressed = o.compressed;
+  std::ofstream times;
+  ProgressBar bar(!o.quiet);
+  std::size_t written = 0, skipped = 0, points = 0;
+  while (auto f = source->next()) {
+    if (!f->complete && !o.partial) {
+      ++skipped;
+      continue;
+    }
+    const fs::path out = dir / fmt::format("{:06d}.{}", written, o.format);
+    io::write_cloud(out, f->cloud, w);
+    if (!times.is_open()) {
+      times.open(times_path);
+      if (!times) throw Error(times_path.string() + ": cannot write");
+    }
+    times << fmt::format("{:.9f}\n", f->stamp_s);
+    ++written;
+    points += f->cloud.size();
+    bar.update(source->progress(), written);
+  }
+  bar.done();
+  fmt::print("wrote {} frames ({} points) as {} to {}/ with their stamps in times.txt\n", written,
+             points, o.format, o.output);
+  if (skipped)
+    fmt::print("skipped {} partial sweeps at the capture's ends (--partial keeps them)\n", skipped);
+  if (o.format == "bin")
+    fmt::print(
+        "note: KITTI .bin keeps x y z intensity only; use --format pcd to keep ring and time\n");
+}
 }  // namespace
 
 void add_convert_command(CLI::App& app) {
   auto opts = std::make_shared<ConvertOptions>();
-  auto* cmd =
-      app.add_subcommand("convert", "Convert a LiDAR file to another format (by extension)");
-  cmd->add_option("IN", opts->input, "Input file (.bin, .pcd, .ply, .las)")->required();
-  cmd->add_option("OUT", opts->output, "Output file (.bin, .pcd, .ply)")->required();
-  cmd->add_flag("-f,--force", opts->force, "Replace OUT if it already exists");
+  auto* cmd = app.add_subcommand(
+      "convert",
+      "Convert a LiDAR file to another format (by extension), or a capture, bag, folder or glob "
+      "into a folder of one file per frame");
+  cmd->add_option("IN", opts->input,
+                  "Input: .bin/.pcd/.ply/.las file, folder or glob of them, .pcap, .bag")
+      ->required();
+  cmd->add_option("OUT", opts->output,
+                  "Output file (.bin, .pcd, .ply) for a single file, else an output folder")
+      ->required();
+  cmd->add_option("--format", opts->format, "Frame file format in the output folder: pcd or bin")
+      ->capture_default_str();
+  cmd->add_option("--topic", opts->topic, "Bag topic of the scans (default: the only one)");
+  cmd->add_option("--metadata", opts->metadata,
+                  "Ouster metadata JSON (default: <capture>.json beside the capture)");
+  cmd->add_flag("-f,--force", opts->force, "Replace existing output files");
   cmd->add_flag("--ascii", opts->ascii, "Write ASCII PCD/PLY instead of binary");
   cmd->add_flag("--compressed", opts->compressed, "Write PCD as binary_compressed");
+  cmd->add_flag("--partial", opts->partial,
+                "Also write the partial sweeps at the start and end of a capture");
+  cmd->add_flag("-q,--quiet", opts->quiet, "No progress bar");
   cmd->callback([opts] {
+    if (!single_file_conversion(*opts)) return convert_stream(*opts);
     const PointCloud cloud = io::read_cloud(opts->input);
     io::WriteOptions w;
     w.overwrite = opts->force;

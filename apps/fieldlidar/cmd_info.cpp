@@ -1,6 +1,8 @@
-// fieldlidar info FILE [--json]: what a LiDAR file holds.
+// fieldlidar info INPUT [--json]: what a LiDAR file, folder, capture or bag holds.
 
+#include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -9,44 +11,142 @@
 
 #include "commands.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
+#include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/io/rosbag_reader.hpp"
 
 namespace fieldlidar::app {
 
 namespace {
 struct InfoOptions {
   std::string input;
+  std::string topic;
+  std::string metadata;
   bool json = false;
 };
 
-nlohmann::json describe(const std::string& path) {
-  const auto format = io::cloud_format_of(path);
-  const PointCloud cloud = io::read_cloud(path);
-  const auto bounds = compute_bounds(cloud);
-  nlohmann::json fields = nlohmann::json::array({"x", "y", "z"});
-  if (cloud.fields.intensity) fields.push_back("intensity");
-  if (cloud.fields.ring) fields.push_back("ring");
-  if (cloud.fields.time) fields.push_back("time");
-  if (cloud.fields.label) fields.push_back("label");
+bool is_bag(const std::string& path) {
+  return io::extension_of(path) == "bag";
+}
+
+/// Bag topics as JSON; returns the scan topic to read frames from ("" when none or ambiguous).
+std::string describe_topics(const std::string& path, const std::string& wanted, nlohmann::json& j) {
+  const auto topics = io::bag_topics(path);
+  nlohmann::json counts = nlohmann::json::object(), types = nlohmann::json::object();
+  std::vector<std::string> scans;
+  std::size_t scan_messages = 0;
+  for (const auto& t : topics) {
+    counts[t.name] = t.messages;
+    types[t.name] = t.datatype;
+    if (t.datatype == "sensor_msgs/LaserScan" || t.datatype == "sensor_msgs/PointCloud2") {
+      scans.push_back(t.name);
+      scan_messages += t.messages;
+    }
+  }
+  j["topics"] = counts;
+  j["topic_types"] = types;
+  j["frames"] = scan_messages;
+  if (!wanted.empty()) return wanted;
+  return scans.size() == 1 ? scans.front() : std::string();
+}
+
+nlohmann::json describe(const InfoOptions& opts) {
   nlohmann::json j;
-  j["file"] = path;
-  j["format"] = io::to_string(*format);
-  j["frames"] = 1;
-  j["points"] = cloud.size();
-  j["valid_points"] = cloud.valid_count();
-  j["fields"] = fields;
-  j["rings"] = cloud.fields.ring ? cloud.ring_count() : 0;
-  if (cloud.is_organized()) j["organized"] = {{"width", cloud.width}, {"height", cloud.height}};
+  j["file"] = opts.input;
+  io::SourceOptions so;
+  so.metadata = opts.metadata;
+  if (is_bag(opts.input)) {
+    so.topic = describe_topics(opts.input, opts.topic, j);
+    if (so.topic.empty()) {  // several scan topics: counts only
+      j["format"] = "rosbag";
+      j["points"] = 0;
+      j["valid_points"] = 0;
+      j["fields"] = nlohmann::json::array();
+      j["rings"] = 0;
+      j["note"] = "several scan topics; pass --topic to read one";
+      return j;
+    }
+    j["topic"] = so.topic;
+  }
+  auto source = io::FrameSource::open(opts.input, so);
+  std::size_t frames = 0, partial = 0, points = 0, valid = 0, rings = 0;
+  std::size_t min_pts = std::numeric_limits<std::size_t>::max(), max_pts = 0;
+  double first_stamp = 0, last_stamp = 0;
+  double first_full_s = 0, last_full_s = 0;  // stamps of the first and last full sweeps
+  PointFields fields;
+  Bounds3 bounds;
+  std::optional<std::pair<std::uint32_t, std::uint32_t>> organized;
+  while (auto f = source->next()) {
+    const PointCloud& c = f->cloud;
+    (f->complete ? frames : partial) += 1;
+    if (frames + partial == 1) first_stamp = f->stamp_s;
+    last_stamp = f->stamp_s;
+    if (f->complete) {
+      if (frames == 1) first_full_s = f->stamp_s;
+      last_full_s = f->stamp_s;
+    }
+    points += c.size();
+    valid += c.valid_count();
+    min_pts = std::min(min_pts, c.size());
+    max_pts = std::max(max_pts, c.size());
+    fields.intensity |= c.fields.intensity;
+    fields.ring |= c.fields.ring;
+    fields.time |= c.fields.time;
+    fields.label |= c.fields.label;
+    if (c.fields.ring) rings = std::max(rings, c.ring_count());
+    const auto b = compute_bounds(c);
+    if (!b.empty()) bounds.extend(b.min), bounds.extend(b.max);
+    if (c.is_organized()) organized = std::make_pair(c.width, c.height);
+  }
+  nlohmann::json field_names = nlohmann::json::array({"x", "y", "z"});
+  if (fields.intensity) field_names.push_back("intensity");
+  if (fields.ring) field_names.push_back("ring");
+  if (fields.time) field_names.push_back("time");
+  if (fields.label) field_names.push_back("label");
+  j["format"] = source->format();
+  j["frames"] = frames;
+  j["points"] = points;
+  j["valid_points"] = valid;
+  j["fields"] = field_names;
+  j["rings"] = rings;
+  if (partial) j["partial_frames"] = partial;
+  if (const auto s = source->sensor()) j["sensor"] = s->name;
+  if (organized) j["organized"] = {{"width", organized->first}, {"height", organized->second}};
   if (!bounds.empty())
     j["bounds"] = {{"min", {bounds.min.x(), bounds.min.y(), bounds.min.z()}},
                    {"max", {bounds.max.x(), bounds.max.y(), bounds.max.z()}}};
+  const std::size_t all = frames + partial;
+  if (all > 1) {
+    j["per_frame"] = {
+        {"points_min", min_pts},
+        {"points_mean", double(points) / double(all)},
+        {"points_max", max_pts},
+        {"period_s_mean", frames > 1 ? (last_full_s - first_full_s) / double(frames - 1)
+                                     : (last_stamp - first_stamp) / double(all - 1)},
+        {"duration_s", last_stamp - first_stamp}};
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  if (const auto imu = source->imu_until(inf).size()) j["imu_samples"] = imu;
+  if (const auto odom = source->odometry_until(inf).size()) j["odometry_samples"] = odom;
   return j;
 }
 
 void print_text(const nlohmann::json& j) {
   fmt::print("file:    {}\n", j["file"].get<std::string>());
   fmt::print("format:  {}\n", j["format"].get<std::string>());
-  fmt::print("frames:  {}\n", j["frames"].get<long>());
+  if (j.contains("sensor")) fmt::print("sensor:  {}\n", j["sensor"].get<std::string>());
+  if (j.contains("topic")) fmt::print("topic:   {}\n", j["topic"].get<std::string>());
+  fmt::print("frames:  {}", j["frames"].get<long>());
+  if (j.contains("partial_frames"))
+    fmt::print(" (+{} partial sweeps at the capture's ends)", j["partial_frames"].get<long>());
+  fmt::print("\n");
   fmt::print("points:  {} ({} valid)\n", j["points"].get<long>(), j["valid_points"].get<long>());
+  if (j.contains("per_frame")) {
+    const auto& p = j["per_frame"];
+    fmt::print("per frame: {} .. {} points (mean {:.0f}), period {:.4f} s, span {:.3f} s\n",
+               p["points_min"].get<long>(), p["points_max"].get<long>(),
+               p["points_mean"].get<double>(), p["period_s_mean"].get<double>(),
+               p["duration_s"].get<double>());
+  }
   std::string fields;
   for (const auto& f : j["fields"]) fields += (fields.empty() ? "" : " ") + f.get<std::string>();
   fmt::print("fields:  {}\n", fields);
@@ -58,18 +158,34 @@ void print_text(const nlohmann::json& j) {
                lo[0].get<double>(), hi[0].get<double>(), lo[1].get<double>(), hi[1].get<double>(),
                lo[2].get<double>(), hi[2].get<double>());
   }
+  if (j.contains("imu_samples")) fmt::print("imu:     {} samples\n", j["imu_samples"].get<long>());
+  if (j.contains("odometry_samples"))
+    fmt::print("odometry: {} samples\n", j["odometry_samples"].get<long>());
+  if (j.contains("topics")) {
+    fmt::print("topics:\n");
+    for (const auto& [name, count] : j["topics"].items())
+      fmt::print("  {:<32} {:>8}  {}\n", name, count.get<long>(),
+                 j["topic_types"][name].get<std::string>());
+  }
+  if (j.contains("note")) fmt::print("note:    {}\n", j["note"].get<std::string>());
 }
 }  // namespace
 
 void add_info_command(CLI::App& app) {
   auto opts = std::make_shared<InfoOptions>();
   auto* cmd = app.add_subcommand(
-      "info", "Show format, frame and point counts, fields, bounds and rings of a LiDAR file");
-  cmd->add_option("FILE", opts->input, "Input file (.bin KITTI, .pcd, .ply, .las)")->required();
+      "info", "Show format, frame and point counts, fields, bounds and rings of a LiDAR input");
+  cmd->add_option("INPUT", opts->input,
+                  "Input: .bin/.pcd/.ply/.las file, folder or glob of them, Velodyne or Ouster "
+                  ".pcap, ROS1 .bag")
+      ->required();
+  cmd->add_option("--topic", opts->topic, "Bag topic of the scans (default: the only one)");
+  cmd->add_option("--metadata", opts->metadata,
+                  "Ouster metadata JSON (default: <capture>.json beside the capture)");
   cmd->add_flag("--json", opts->json,
                 "Print machine-readable JSON (keys: format, frames, points, ...)");
   cmd->callback([opts] {
-    const auto j = describe(opts->input);
+    const auto j = describe(*opts);
     if (opts->json)
       std::printf("%s\n", j.dump(2).c_str());
     else
