@@ -1,0 +1,194 @@
+// fieldlidar follow: the seed 000 closed loop in simulation. A simulated mower follows its
+// operator around a lawn (simulated scans -> ground -> clusters -> legs -> tracker -> controller ->
+// mower motion) and records the lawn boundary.
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/follow/closed_loop.hpp"
+#include "fieldlidar/io/file_util.hpp"
+#include "support/canvas.hpp"
+
+namespace fieldlidar::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct FollowOptions {
+  std::string scene = "lawn";
+  std::string sensor = "vlp16";
+  std::string scenario = "default";
+  std::uint64_t seed = 0;
+  std::string out;
+  bool force = false;
+  std::int64_t target_id = -1;
+  double max_time_s = 0;
+  double safe_distance_m = -1;
+  double max_distance_m = -1;
+};
+
+void write_text(const fs::path& path, const std::string& text, bool force) {
+  io::write_file_atomic(path, text.data(), text.size(), force);
+}
+
+nlohmann::json config_json(const follow::FollowConfig& c) {
+  nlohmann::json j;
+  j["L_s_m"] = c.safety.safe_distance_m;
+  j["L_m_m"] = c.safety.max_distance_m;
+  const auto& d = c.drive;
+  j["drive"] = {{"track_width_m", d.track_width_m},     {"wheel_diameter_m", d.wheel_diameter_m},
+                {"gear_ratio", d.gear_ratio},           {"max_speed_m_s", d.max_speed_m_s},
+                {"max_accel_m_s2", d.max_accel_m_s2},   {"max_wheel_speed_m_s", d.max_wheel_speed_m_s},
+                {"max_dv_m_s", d.max_dv_m_s},           {"follow_distance_m", d.follow_distance_m},
+                {"speed_gain_1_s", d.speed_gain_1_s},   {"lateral_weight_k_p", d.lateral_weight},
+                {"prediction_s", d.prediction_s},       {"trail_spacing_m", d.trail_spacing_m}};
+  const auto& l = c.legs;
+  j["legs"] = {{"delta_c", l.curve_max},
+               {"L_min_m", l.path_min_m},
+               {"L_max_m", l.path_max_m},
+               {"dist_max_m", l.pair_distance_max_m},
+               {"S_s_m", l.range_min_m},
+               {"S_m_m", l.range_max_m},
+               {"min_rings", l.min_rings},
+               {"segment_jump_m", l.segment_jump_m},
+               {"path_step_m", l.path_step_m},
+               {"smooth_window", l.smooth_window},
+               {"chord_max_m", l.use_chord_max ? l.chord_max_m : -1.0},
+               {"leg_height_band_m", {c.leg_height_min_m, c.leg_height_max_m}}};
+  const auto& t = c.tracker;
+  j["tracker"] = {{"accel_sigma_m_s2", t.accel_sigma_m_s2},
+                  {"measurement_sigma_m", t.measurement_sigma_m},
+                  {"gate_chi2", t.gate_chi2},
+                  {"confirm_hits", t.confirm_hits},
+                  {"coast_frames", t.coast_frames},
+                  {"delete_after_miss_s", t.delete_after_miss_s}};
+  j["boundary"] = {{"record_spacing_m", c.boundary.record_spacing_m},
+                   {"simplify_tolerance_m", c.boundary.simplify_tolerance_m}};
+  return j;
+}
+
+void write_picture(const fs::path& path, const sim::Scene& scene,
+                   const follow::ClosedLoopResult& r, const std::string& title, bool force) {
+  TopDownCanvas canvas(scene.min_m(), scene.max_m(), 1400);
+  // Lawn: the operator's true loop, then what the mower did and recorded.
+  canvas.polyline(r.operator_loop, {0.55, 0.8, 0.55}, 10.0, true);
+  canvas.polyline(r.operator_loop, {0.1, 0.55, 0.1}, 1.5, true);
+  for (const auto& p : r.trail) canvas.dot(p, {0.2, 0.4, 0.95}, 1.5);
+  canvas.polyline(r.mower_path, {0.1, 0.1, 0.1}, 1.0);
+  canvas.polyline(r.boundary.vertices, {0.85, 0.15, 0.1}, 2.5, true);
+  for (const auto& x : r.boundary.self_intersections)
+    canvas.circle(x.point_m, 0.4, {0.9, 0.0, 0.6}, 2.0);
+  if (!r.rows.empty()) {
+    const auto& first = r.rows.front();
+    canvas.arrow({first.mower_x, first.mower_y}, first.mower_yaw, 1.5, {0, 0, 0});
+  }
+  canvas.legend({{"operator's true loop", {0.1, 0.55, 0.1}},
+                 {"operator estimate (trail)", {0.2, 0.4, 0.95}},
+                 {"mower path", {0.1, 0.1, 0.1}},
+                 {"recorded boundary", {0.85, 0.15, 0.1}}});
+  canvas.title(title);
+  canvas.save_png(path, force);
+}
+
+void run_follow(const FollowOptions& o) {
+  if (o.scene != "lawn") throw Error("--scene '" + o.scene + "': only 'lawn' is supported");
+  const auto scenario = follow::scenario_from_string(o.scenario);
+  if (!scenario)
+    throw Error("--scenario '" + o.scenario +
+                "': expected default, crossing, stop, fast or occluded");
+  const auto sensor = SensorModel::preset(o.sensor);
+  if (!sensor) throw Error("--sensor '" + o.sensor + "': unknown sensor preset");
+  const fs::path dir(o.out);
+  if (fs::exists(dir) && !fs::is_directory(dir))
+    throw Error("--out " + o.out + ": exists and is not a folder");
+  fs::create_directories(dir);
+  const fs::path geojson = dir / "boundary.geojson", csv = dir / "boundary.csv",
+                 log = dir / "follow_log.csv", summary = dir / "summary.json",
+                 png = dir / "follow.png";
+  for (const auto& p : {geojson, csv, log, summary, png}) io::check_writable(p, o.force);
+
+  follow::ClosedLoopConfig cfg;
+  if (o.target_id >= 0) cfg.follow.target_id = std::uint32_t(o.target_id);
+  if (o.max_time_s > 0) cfg.max_time_s = o.max_time_s;
+  if (o.safe_distance_m > 0) cfg.follow.safety.safe_distance_m = o.safe_distance_m;
+  if (o.max_distance_m > 0) cfg.follow.safety.max_distance_m = o.max_distance_m;
+  if (cfg.follow.safety.safe_distance_m >= cfg.follow.safety.max_distance_m)
+    throw Error(fmt::format("--safe-distance {} m must be below --max-distance {} m",
+                            cfg.follow.safety.safe_distance_m, cfg.follow.safety.max_distance_m));
+  const auto scene = sim::make_lawn_scene(follow::lawn_config(*scenario), o.seed);
+  const auto r = follow::run_closed_loop(scene, *sensor, cfg);
+
+  write_text(geojson, follow::boundary_geojson(r.boundary, "world"), o.force);
+  write_text(csv, follow::boundary_csv(r.boundary), o.force);
+  write_text(log, follow::log_csv(r.rows), o.force);
+  nlohmann::json s;
+  s["scene"] = o.scene;
+  s["scenario"] = o.scenario;
+  s["sensor"] = sensor->name;
+  s["seed"] = o.seed;
+  s["frames"] = r.rows.size();
+  s["duration_s"] = r.duration_s;
+  s["stopped_by_command"] = r.stopped_by_command;
+  s["frame"] = "world (simulated lawn), x-y in metres";
+  s["metrics"] = {{"boundary_mean_distance_m", r.boundary_error.mean_m},
+                  {"boundary_hausdorff_m", r.boundary_error.hausdorff_m},
+                  {"boundary_vertices", r.boundary.vertices.size()},
+                  {"boundary_area_m2", r.boundary.area_m2},
+                  {"boundary_perimeter_m", r.boundary.perimeter_m},
+                  {"self_intersections", r.boundary.self_intersections.size()},
+                  {"frames_following", r.frames_following},
+                  {"frames_moving_below_L_s", r.frames_moving_too_close},
+                  {"target_id", r.first_target_id ? std::int64_t(*r.first_target_id) : -1},
+                  {"target_switches", r.target_switches},
+                  {"frames_target_estimate_off", r.frames_target_off},
+                  {"occlusions", r.occlusions},
+                  {"max_stop_delay_frames", r.max_stop_delay_frames},
+                  {"max_resume_delay_frames", r.max_resume_delay_frames},
+                  {"resumed_after_every_occlusion", r.resumed_after_every_occlusion},
+                  {"mean_perception_ms", r.mean_perception_ms}};
+  s["config"] = config_json(cfg.follow);
+  write_text(summary, s.dump(2) + "\n", o.force);
+  write_picture(png, scene, r,
+                fmt::format("fieldlidar follow: lawn, {}, {} ({} frames)", o.scenario,
+                            sensor->name, r.rows.size()),
+                o.force);
+  fmt::print(
+      "follow: {} frames ({:.1f} s), {}; boundary {} vertices, {:.1f} m2, vs walked loop mean "
+      "{:.3f} m, Hausdorff {:.3f} m; {} self-intersections; target id {} switches {}; frames "
+      "moving below L_s {}\nwrote {}\n",
+      r.rows.size(), r.duration_s, r.stopped_by_command ? "stopped at the start" : "time limit",
+      r.boundary.vertices.size(), r.boundary.area_m2, r.boundary_error.mean_m,
+      r.boundary_error.hausdorff_m, r.boundary.self_intersections.size(),
+      r.first_target_id ? std::int64_t(*r.first_target_id) : -1, r.target_switches,
+      r.frames_moving_too_close, dir.string());
+}
+
+}  // namespace
+
+void add_follow_command(CLI::App& app) {
+  auto o = std::make_shared<FollowOptions>();
+  auto* cmd = app.add_subcommand(
+      "follow", "Simulate the mower following its operator and recording the lawn boundary");
+  cmd->add_option("--scene", o->scene, "Simulated scene (lawn)")->capture_default_str();
+  cmd->add_option("--sensor", o->sensor, "Sensor preset")->capture_default_str();
+  cmd->add_option("--scenario", o->scenario, "default, crossing, stop, fast or occluded")
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Scene seed")->capture_default_str();
+  cmd->add_option("--target-id", o->target_id,
+                  "Track id of the person to follow (default: the person ahead at the start)");
+  cmd->add_option("--max-time", o->max_time_s, "Time limit in s (default: from the lap length)");
+  cmd->add_option("--safe-distance", o->safe_distance_m, "L_s in m (default 1.2)");
+  cmd->add_option("--max-distance", o->max_distance_m, "L_m in m (default 7.0)");
+  cmd->add_option("--out", o->out, "Output folder")->required();
+  cmd->add_flag("--force", o->force, "Overwrite existing output files");
+  cmd->callback([o] { run_follow(*o); });
+}
+
+}  // namespace fieldlidar::app
