@@ -9,5 +9,7 @@ namespace fieldlidar::app {
 void add_info_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
+void add_simulate_command(CLI::App& app);
+void add_follow_command(CLI::App& app);
 
 }  // namespace fieldlidar::app

@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
   fieldlidar::app::add_info_command(app);
   fieldlidar::app::add_convert_command(app);
   fieldlidar::app::add_demo_command(app);
+  fieldlidar::app::add_simulate_command(app);
+  fieldlidar::app::add_follow_command(app);
 
   try {
     if (argc == 1)

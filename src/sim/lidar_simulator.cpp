@@ -232,7 +232,8 @@ std::optional<LidarSimulator::Hit> LidarSimulator::cast(const Eigen::Vector3d& o
   rtcInitIntersectContext(&ctx);
   rtcIntersect1(impl_->embree.scene, &ctx, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  return Hit{rh.ray.tfar, impl_->labels[rh.hit.primID]};
+  const Eigen::Vector3d n = Eigen::Vector3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+  return Hit{rh.ray.tfar, impl_->labels[rh.hit.primID], n};
 }
 
 SimFrame LidarSimulator::scan(double t0_s, const std::function<Pose(double)>& T_world_lidar) const {

@@ -46,16 +46,16 @@ Scene make_greenhouse_scene(const GreenhouseConfig& cfg, std::uint64_t seed) {
     scene.add_mesh(
         make_cylinder({x, width / 2, H}, {x, width / 2, ridge}, 0.03, 0.03, 6, structure));
   }
-  // Roof glazing: two slopes from the eaves to the ridge.
-  for (int side : {0, 1}) {
-    const double y0 = side == 0 ? 0.0 : width;
-    Eigen::Vector3d a(0, y0, H), b(L, y0, H), c(L, width / 2, ridge), d(0, width / 2, ridge);
-    scene.add_mesh([&] {
-      TriangleMesh m;
-      m.add_triangle(a, b, c, structure);
-      m.add_triangle(a, c, d, structure);
-      return m;
-    }());
+  // Roof glazing: two 2 cm slabs from the eaves to the ridge.
+  const double slope_len = std::hypot(width / 2, ridge - H);
+  const double slope_angle = std::atan2(ridge - H, width / 2);
+  for (int side : {-1, 1}) {
+    Pose T = Pose::Identity();
+    T.translation() =
+        Eigen::Vector3d(L / 2, side < 0 ? width / 4 : 3 * width / 4, (H + ridge) / 2 + 0.05);
+    T.linear() =
+        Eigen::AngleAxisd(-side * slope_angle, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    scene.add_mesh(make_box(T, {L + 0.2, slope_len, 0.02}, structure));
   }
 
   // Rows: benches (tabletop on legs, potted plants) alternate with raised beds (soil, tall plants).

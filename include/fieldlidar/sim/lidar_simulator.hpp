@@ -72,6 +72,7 @@ class LidarSimulator {
   struct Hit {
     double range_m;
     std::uint32_t label;
+    Eigen::Vector3d normal;  ///< unit geometric normal, outward for closed meshes (CCW winding)
   };
   std::optional<Hit> cast(const Eigen::Vector3d& origin_m, const Eigen::Vector3d& direction,
                           double max_range_m) const;
