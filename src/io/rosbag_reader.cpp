@@ -98,10 +98,15 @@ class TopicStream {
     if (!view_) return out;
     for (;;) {
       if (!pending_) {
-        if (it_ == view_->end()) break;
-        message_bytes(*it_, buf_);
-        const std::string topic = it_->getTopic();
-        ++it_;
+        std::string topic;
+        try {
+          if (it_ == view_->end()) break;
+          message_bytes(*it_, buf_);
+          topic = it_->getTopic();
+          ++it_;
+        } catch (const rosbag::BagException& e) {
+          throw Error(source_ + ": a message cannot be read: " + e.what());
+        }
         try {
           pending_ = parse_(buf_);
         } catch (const Error& e) {
@@ -170,9 +175,14 @@ class RosbagSource final : public FrameSource {
   }
 
   std::optional<Frame> next() override {
-    if (it_ == view_->end()) return std::nullopt;
-    message_bytes(*it_, buf_);
-    ++it_;
+    try {
+      if (it_ == view_->end()) return std::nullopt;
+      message_bytes(*it_, buf_);
+      ++it_;
+    } catch (const rosbag::BagException& e) {
+      throw Error(path_.string() + ": topic '" + topic_.name + "' message " +
+                  std::to_string(index_) + " cannot be read: " + e.what());
+    }
     Frame f;
     try {
       f.cloud = laser_scan_ ? parse_laser_scan(buf_) : parse_point_cloud2(buf_);

@@ -1,4 +1,5 @@
 // ROS1 bags: LaserScan as a one-ring cloud, PoseArray, topic counts, topic errors, message bytes.
+#include <cmath>
 #include <cstring>
 
 #include <gtest/gtest.h>
@@ -130,6 +131,65 @@ TEST(Rosbag, LaserScanWireFormat) {
   cut.resize(cut.size() - 9);
   EXPECT_THROW(io::parse_laser_scan(cut), Error);
   EXPECT_THROW(io::parse_point_cloud2(bytes), Error);
+}
+
+/// PointCloud2 in the Ouster driver's layout: x y z intensity (float32), t (uint32 ns), ring
+/// (uint16), 2 x 2 organized, one NaN point.
+std::vector<std::uint8_t> point_cloud2_bytes() {
+  std::vector<std::uint8_t> b;
+  auto put = [&](const void* p, std::size_t n) {
+    const auto* c = static_cast<const std::uint8_t*>(p);
+    b.insert(b.end(), c, c + n);
+  };
+  auto u32 = [&](std::uint32_t v) { put(&v, 4); };
+  auto str = [&](const std::string& s) { u32(std::uint32_t(s.size())), put(s.data(), s.size()); };
+  u32(3), u32(200), u32(250000000), str("os_lidar");
+  u32(2), u32(2);  // height, width
+  struct F {
+    const char* name;
+    std::uint32_t offset;
+    std::uint8_t type;
+  };
+  const F fields[] = {{"x", 0, 7},          {"y", 4, 7},  {"z", 8, 7},
+                      {"intensity", 12, 7}, {"t", 16, 6}, {"ring", 20, 4}};
+  u32(6);
+  for (const auto& f : fields) {
+    str(f.name), u32(f.offset);
+    put(&f.type, 1);
+    u32(1);
+  }
+  const std::uint8_t big_endian = 0;
+  put(&big_endian, 1);
+  const std::uint32_t step = 24;
+  u32(step), u32(2 * step), u32(4 * step);
+  for (int i = 0; i < 4; ++i) {
+    const float xyz[4] = {i == 3 ? std::nanf("") : float(i + 1), 2.f, 3.f, 10.f * i};
+    put(xyz, 16);
+    u32(std::uint32_t(i) * 1000000u);  // 1 ms apart
+    const std::uint16_t ring = std::uint16_t(i / 2), pad = 0;
+    put(&ring, 2), put(&pad, 2);
+  }
+  const std::uint8_t dense = 0;
+  put(&dense, 1);
+  return b;
+}
+
+TEST(Rosbag, PointCloud2WireFormatWithRingAndTime) {
+  const auto bytes = point_cloud2_bytes();
+  const auto c = io::parse_point_cloud2(bytes);
+  EXPECT_DOUBLE_EQ(c.stamp_s, 200.25);
+  ASSERT_EQ(c.size(), 4u);  // organized: the NaN point stays as a zero "no return"
+  EXPECT_EQ(c.width, 2u);
+  EXPECT_EQ(c.height, 2u);
+  EXPECT_TRUE(c.fields.ring && c.fields.time && c.fields.intensity);
+  EXPECT_FLOAT_EQ(c.points[1].x, 2.f);
+  EXPECT_FLOAT_EQ(c.points[2].intensity, 20.f);
+  EXPECT_EQ(c.points[2].ring, 1);
+  EXPECT_NEAR(c.points[2].time, 0.002, 1e-9);
+  EXPECT_FALSE(c.points[3].is_valid());
+  auto cut = bytes;
+  cut.resize(cut.size() - 30);
+  EXPECT_THROW(io::parse_point_cloud2(cut), Error);
 }
 
 }  // namespace
