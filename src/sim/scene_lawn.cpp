@@ -135,17 +135,20 @@ Scene make_lawn_scene(const LawnConfig& cfg, std::uint64_t seed) {
 
   std::uint16_t next_id = 2;
   if (cfg.second_person_crossing) {
-    // Crosses the operator's path 2 m ahead of them at crossing_time_s, at 1.2 m/s.
+    // Comes from the lawn's interior (the outline runs counter-clockwise, so left is inwards),
+    // crosses the operator's path 2 m ahead of them at crossing_time_s at 1.2 m/s, then walks on
+    // along the edge, between the path and the lawn's border.
     const auto truth = op.truth_at(cfg.crossing_time_s);
     const Eigen::Vector2d dir(std::cos(truth.heading_rad), std::sin(truth.heading_rad));
-    const Eigen::Vector2d lateral(-dir.y(), dir.x());
+    const Eigen::Vector2d inward(-dir.y(), dir.x());
     const Eigen::Vector2d c = truth.position_m + 2.0 * dir;
+    const double approach_m = 7.0, v = 1.2;
     WalkerConfig w;
     w.id = next_id++;
-    w.path_m = {c - 8.0 * lateral, c + 8.0 * lateral};
-    const double v = 1.2;
+    w.path_m = {c + approach_m * inward, c - 0.6 * cfg.edge_inset_m * inward,
+                c - 0.6 * cfg.edge_inset_m * inward + 10.0 * dir};
     w.speed = {{0.0, v}};
-    w.start_offset_m = 8.0 - v * cfg.crossing_time_s;
+    w.start_offset_m = approach_m - v * cfg.crossing_time_s;
     w.height_m = 1.68;
     scene.add_walker(Walker(w));
   }

@@ -58,6 +58,13 @@ TEST(SimPeople, ScenarioOptions) {
   const auto at = scene.people_at(cfg.crossing_time_s);
   EXPECT_NEAR((at[1].position_m - at[0].position_m).norm(), 2.0, 1e-6);
   EXPECT_GT(at[1].velocity_m_s.norm(), 1.0);
+  // ... and stays on the lawn (never walks through the hedge or the shed).
+  for (const auto& p : scene.walkers()[1].config().path_m) {
+    EXPECT_GE(p.x(), 0.0);
+    EXPECT_LE(p.x(), cfg.length_m);
+    EXPECT_GE(p.y(), 0.0);
+    EXPECT_LE(p.y(), cfg.width_m + 3.0);
+  }
   // The detour goes round the far side of the shed (beyond the lawn's right edge).
   double max_x = 0;
   for (const auto& p : scene.operator_path()) max_x = std::max(max_x, p.x());
