@@ -168,6 +168,39 @@ TEST(Velodyne, PacketGeometryMatchesTheLaserTable) {
               4.0, 1e-3);
 }
 
+TEST(Velodyne, Hdl64eUpperAndLowerBlocksAndDualReturnTiming) {
+  // HDL-64E: blocks alternate upper (0xEEFF, lasers 0-31) and lower (0xDDFF, lasers 32-63) at
+  // one azimuth per pair; there is no model byte.
+  auto p = synthetic_packet(0x00, 0x00);
+  for (int b = 0; b < 12; ++b) {
+    p[std::size_t(b * 100 + 1)] = (b % 2) ? 0xDD : 0xEE;
+    const int az = 2000 + (b / 2) * 20;
+    p[std::size_t(b * 100 + 2)] = std::uint8_t(az & 0xFF);
+    p[std::size_t(b * 100 + 3)] = std::uint8_t(az >> 8);
+  }
+  std::vector<io::VelodyneReturn> out;
+  EXPECT_EQ(io::decode_velodyne_packet(p, out).model, io::VelodyneModel::kHdl64e);
+  ASSERT_EQ(out.size(), 384u);
+  EXPECT_EQ(out[0].point.ring, 63);                        // upper laser 0, +2 deg: highest
+  EXPECT_EQ(out[31].point.ring, 32);                       // upper laser 31, -8.33 deg
+  EXPECT_EQ(out[32].point.ring, 31);                       // lower laser 32, -8.83 deg
+  EXPECT_EQ(out[63].point.ring, 0);                        // lower laser 63, -24.33 deg
+  EXPECT_FLOAT_EQ(out[32].point.time, out[0].point.time);  // the pair fires together
+  EXPECT_NEAR(out[64].point.time, 48e-6, 1e-9);            // next firing
+
+  // VLP-16 dual return: block pairs share the azimuth and the firing time.
+  auto d = synthetic_packet(0x22, 0x39);
+  for (int b = 0; b < 12; ++b) {
+    const int az = 1000 + (b / 2) * 40;
+    d[std::size_t(b * 100 + 2)] = std::uint8_t(az & 0xFF);
+    d[std::size_t(b * 100 + 3)] = std::uint8_t(az >> 8);
+  }
+  out.clear();
+  EXPECT_EQ(io::decode_velodyne_packet(d, out).mode, io::VelodyneReturnMode::kDual);
+  EXPECT_FLOAT_EQ(out[32].point.time, out[0].point.time);
+  EXPECT_NEAR(out[64].point.time, 110.592e-6, 1e-9);
+}
+
 TEST(Velodyne, BadPacketsGiveClearErrors) {
   std::vector<io::VelodyneReturn> out;
   auto short_packet = synthetic_packet(0x22, 0x37);
