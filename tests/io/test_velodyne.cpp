@@ -53,7 +53,9 @@ void check_sweeps(const CaptureStats& s, std::size_t beams) {
       ASSERT_LT(r, 1.1 * s.sensor->max_range_m) << "frame " << f.index;
     }
     EXPECT_LT(tmax, period_s);
-    if (f.complete) EXPECT_GE(test::azimuth_coverage_deg(c), 355.0) << "frame " << f.index;
+    if (f.complete) {
+      EXPECT_GE(test::azimuth_coverage_deg(c), 355.0) << "frame " << f.index;
+    }
   }
 }
 
