@@ -43,12 +43,13 @@ nlohmann::json config_json(const follow::FollowConfig& c) {
   j["L_s_m"] = c.safety.safe_distance_m;
   j["L_m_m"] = c.safety.max_distance_m;
   const auto& d = c.drive;
-  j["drive"] = {{"track_width_m", d.track_width_m},     {"wheel_diameter_m", d.wheel_diameter_m},
-                {"gear_ratio", d.gear_ratio},           {"max_speed_m_s", d.max_speed_m_s},
-                {"max_accel_m_s2", d.max_accel_m_s2},   {"max_wheel_speed_m_s", d.max_wheel_speed_m_s},
-                {"max_dv_m_s", d.max_dv_m_s},           {"follow_distance_m", d.follow_distance_m},
-                {"speed_gain_1_s", d.speed_gain_1_s},   {"lateral_weight_k_p", d.lateral_weight},
-                {"prediction_s", d.prediction_s},       {"trail_spacing_m", d.trail_spacing_m}};
+  j["drive"] = {
+      {"track_width_m", d.track_width_m},   {"wheel_diameter_m", d.wheel_diameter_m},
+      {"gear_ratio", d.gear_ratio},         {"max_speed_m_s", d.max_speed_m_s},
+      {"max_accel_m_s2", d.max_accel_m_s2}, {"max_wheel_speed_m_s", d.max_wheel_speed_m_s},
+      {"max_dv_m_s", d.max_dv_m_s},         {"follow_distance_m", d.follow_distance_m},
+      {"speed_gain_1_s", d.speed_gain_1_s}, {"lateral_weight_k_p", d.lateral_weight},
+      {"prediction_s", d.prediction_s},     {"trail_spacing_m", d.trail_spacing_m}};
   const auto& l = c.legs;
   j["legs"] = {{"delta_c", l.curve_max},
                {"L_min_m", l.path_min_m},
@@ -74,8 +75,8 @@ nlohmann::json config_json(const follow::FollowConfig& c) {
   return j;
 }
 
-void write_picture(const fs::path& path, const sim::Scene& scene,
-                   const follow::ClosedLoopResult& r, const std::string& title, bool force) {
+void write_picture(const fs::path& path, const sim::Scene& scene, const follow::ClosedLoopResult& r,
+                   const std::string& title, bool force) {
   TopDownCanvas canvas(scene.min_m(), scene.max_m(), 1400);
   // Lawn: the operator's true loop, then what the mower did and recorded.
   canvas.polyline(r.operator_loop, {0.55, 0.8, 0.55}, 10.0, true);
@@ -156,8 +157,8 @@ void run_follow(const FollowOptions& o) {
   s["config"] = config_json(cfg.follow);
   write_text(summary, s.dump(2) + "\n", o.force);
   write_picture(png, scene, r,
-                fmt::format("fieldlidar follow: lawn, {}, {} ({} frames)", o.scenario,
-                            sensor->name, r.rows.size()),
+                fmt::format("fieldlidar follow: lawn, {}, {} ({} frames)", o.scenario, sensor->name,
+                            r.rows.size()),
                 o.force);
   fmt::print(
       "follow: {} frames ({:.1f} s), {}; boundary {} vertices, {:.1f} m2, vs walked loop mean "

@@ -11,5 +11,7 @@ void add_convert_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
 void add_follow_command(CLI::App& app);
+void add_legs_command(CLI::App& app);
+void add_legs_train_command(CLI::App& app);
 
 }  // namespace fieldlidar::app

@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   fieldlidar::app::add_demo_command(app);
   fieldlidar::app::add_simulate_command(app);
   fieldlidar::app::add_follow_command(app);
+  fieldlidar::app::add_legs_command(app);
+  fieldlidar::app::add_legs_train_command(app);
 
   try {
     if (argc == 1)

@@ -49,6 +49,36 @@ bool fit_circle(std::span<const Eigen::Vector2d> pts, Eigen::Vector2d& center, d
 
 }  // namespace
 
+LegDetectorConfig default_2d_legs() {
+  // `fieldlidar legs-train` on the four annotated positive_*_extracted bags and negative_2.bag
+  // of ../shared/data/legs_2d, quantiles 0.02 / 0.98 (config/legs_2d.yaml).
+  LegDetectorConfig c;
+  c.min_rings = 1;
+  c.curve_max = 1.722;
+  c.path_min_m = 0.052;
+  c.path_max_m = 0.544;
+  c.pair_distance_max_m = 0.463;
+  c.use_min_points = true;
+  c.min_points = 4;
+  c.use_chord_max = true;
+  c.chord_max_m = 0.395;
+  c.use_circle_fit = true;
+  c.radius_min_m = 0.030;
+  c.radius_max_m = 0.518;
+  c.circle_rms_max_m = 0.042;
+  c.use_curve_min = true;
+  c.use_background = true;
+  return c;
+}
+
+LegDetectorConfig seed_only(LegDetectorConfig c) {
+  c.use_min_points = c.use_chord_max = c.use_circle_fit = c.use_curve_min = false;
+  c.use_foreground = c.use_background = false;
+  c.smooth_window = 1;
+  c.path_step_m = 0.0;
+  return c;
+}
+
 ArcFeatures compute_arc_features(std::span<const Eigen::Vector2d> pts, double path_step_m) {
   ArcFeatures f;
   f.points = pts.size();
@@ -133,8 +163,17 @@ ArcVerdict classify_arc(const ArcFeatures& arc, const LegDetectorConfig& c) {
   return ArcVerdict::kLeg;
 }
 
+bool in_foreground(std::span<const Eigen::Vector2d> pts, std::size_t begin, std::size_t end,
+                   double margin_m) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (std::size_t j = begin; j < end; ++j) nearest = std::min(nearest, pts[j].norm());
+  if (begin > 0 && pts[begin - 1].norm() < nearest - margin_m) return false;
+  if (end < pts.size() && pts[end].norm() < nearest - margin_m) return false;
+  return true;
+}
+
 LegDetection detect_legs_2d(std::span<const Eigen::Vector2d> ordered_points,
-                            const LegDetectorConfig& config) {
+                            const LegDetectorConfig& config, const StaticBackground* background) {
   LegDetection out;
   std::vector<Eigen::Vector2d> pts;
   pts.reserve(ordered_points.size());
@@ -147,27 +186,24 @@ LegDetection detect_legs_2d(std::span<const Eigen::Vector2d> ordered_points,
     const auto [b, e] = segments[s];
     const auto arc = arc_features(std::span(pts).subspan(b, e - b), config);
     ++out.arcs_tested;
-    if (classify_arc(arc, config) == ArcVerdict::kLeg)
-      out.legs.push_back({arc.midpoint_m, 1, std::int32_t(s)});
+    if (classify_arc(arc, config) != ArcVerdict::kLeg) continue;
+    if (config.use_foreground && !in_foreground(pts, b, e, config.foreground_margin_m)) continue;
+    if (config.use_background && background &&
+        background->is_static(std::span(pts).subspan(b, e - b)))
+      continue;
+    out.legs.push_back({arc.midpoint_m, 1, std::int32_t(s)});
   }
   pair_legs(out, config);
   return out;
 }
 
-LegDetection detect_legs_3d(const PointCloud& cloud,
-                            std::span<const std::vector<std::uint32_t>> clusters,
-                            const LegDetectorConfig& config) {
-  LegDetection out;
+std::vector<RingArc> extract_ring_arcs(const PointCloud& cloud,
+                                       std::span<const std::vector<std::uint32_t>> clusters,
+                                       const LegDetectorConfig& config) {
+  std::vector<RingArc> arcs;
   std::vector<std::pair<double, std::uint32_t>> by_azimuth;
   std::vector<Eigen::Vector2d> ring_pts;
-  std::vector<std::pair<std::size_t, std::size_t>> pieces, segments;
-  struct Group {
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    int arcs = 0;
-    std::vector<std::uint16_t> rings;
-    Eigen::Vector2d mean() const { return sum / double(arcs); }
-  };
-  std::vector<Group> groups;
+  std::vector<std::pair<std::size_t, std::size_t>> pieces;
   for (std::size_t k = 0; k < clusters.size(); ++k) {
     const auto& idx = clusters[k];
     if (idx.empty()) continue;
@@ -181,16 +217,14 @@ LegDetection detect_legs_3d(const PointCloud& cloud,
     by_azimuth.clear();
     for (auto i : idx) {
       const auto& p = cloud.points[i];
-      double a = std::atan2(double(p.y), double(p.x)) - az0;
-      a = std::remainder(a, 2 * M_PI);
-      by_azimuth.emplace_back(a, i);
+      by_azimuth.emplace_back(std::remainder(std::atan2(double(p.y), double(p.x)) - az0, 2 * M_PI),
+                              i);
     }
     // Group by ring, then azimuth order within the ring.
     std::sort(by_azimuth.begin(), by_azimuth.end(), [&](const auto& a, const auto& b) {
       const auto ra = cloud.points[a.second].ring, rb = cloud.points[b.second].ring;
       return ra != rb ? ra < rb : a.first < b.first;
     });
-    groups.clear();
     for (std::size_t s = 0; s < by_azimuth.size();) {
       const auto ring = cloud.points[by_azimuth[s].second].ring;
       std::size_t e = s;
@@ -208,38 +242,61 @@ LegDetection detect_legs_3d(const PointCloud& cloud,
         ++e;
       }
       pieces.emplace_back(piece_begin, ring_pts.size());
-      s = e;
-      segments.clear();
       for (const auto& [pb, pe] : pieces)
         for (const auto& [b, en] :
-             split_by_jump(std::span(ring_pts).subspan(pb, pe - pb), config.segment_jump_m))
-          segments.emplace_back(pb + b, pb + en);
-      for (const auto& [b, en] : segments) {
-        const auto arc = arc_features(std::span(ring_pts).subspan(b, en - b), config);
-        ++out.arcs_tested;
-        if (classify_arc(arc, config) != ArcVerdict::kLeg) continue;
-        Group* best = nullptr;
-        double best_d = config.leg_merge_radius_m;
-        for (auto& g : groups) {
-          const double d = (g.mean() - arc.midpoint_m).norm();
-          if (d <= best_d && std::find(g.rings.begin(), g.rings.end(), ring) == g.rings.end()) {
-            best = &g;
-            best_d = d;
-          }
+             split_by_jump(std::span(ring_pts).subspan(pb, pe - pb), config.segment_jump_m)) {
+          RingArc arc;
+          arc.cluster = std::int32_t(k);
+          arc.ring = ring;
+          for (std::size_t j = pb + b; j < pb + en; ++j)
+            arc.indices.push_back(by_azimuth[s + j].second);
+          arc.features = arc_features(std::span(ring_pts).subspan(pb + b, en - b), config);
+          arcs.push_back(std::move(arc));
         }
-        if (!best) {
-          groups.emplace_back();
-          best = &groups.back();
-        }
-        best->sum += arc.midpoint_m;
-        ++best->arcs;
-        best->rings.push_back(ring);
+      s = e;
+    }
+  }
+  return arcs;
+}
+
+LegDetection detect_legs_3d(const PointCloud& cloud,
+                            std::span<const std::vector<std::uint32_t>> clusters,
+                            const LegDetectorConfig& config) {
+  LegDetection out;
+  struct Group {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    int arcs = 0;
+    std::int32_t cluster = -1;
+    std::vector<std::uint16_t> rings;
+    Eigen::Vector2d mean() const { return sum / double(arcs); }
+  };
+  std::vector<Group> groups;
+  const auto arcs = extract_ring_arcs(cloud, clusters, config);
+  out.arcs_tested = arcs.size();
+  for (const auto& arc : arcs) {
+    if (classify_arc(arc.features, config) != ArcVerdict::kLeg) continue;
+    // Leg arcs of one cluster on different rings within the merge radius are one leg.
+    Group* best = nullptr;
+    double best_d = config.leg_merge_radius_m;
+    for (auto& g : groups) {
+      const double d = (g.mean() - arc.features.midpoint_m).norm();
+      if (g.cluster == arc.cluster && d <= best_d &&
+          std::find(g.rings.begin(), g.rings.end(), arc.ring) == g.rings.end()) {
+        best = &g;
+        best_d = d;
       }
     }
-    for (const auto& g : groups)
-      if (g.arcs >= std::max(config.min_rings, 1))
-        out.legs.push_back({g.mean(), g.arcs, std::int32_t(k)});
+    if (!best) {
+      groups.emplace_back();
+      best = &groups.back();
+      best->cluster = arc.cluster;
+    }
+    best->sum += arc.features.midpoint_m;
+    ++best->arcs;
+    best->rings.push_back(arc.ring);
   }
+  for (const auto& g : groups)
+    if (g.arcs >= std::max(config.min_rings, 1)) out.legs.push_back({g.mean(), g.arcs, g.cluster});
   pair_legs(out, config);
   return out;
 }

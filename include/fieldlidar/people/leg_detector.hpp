@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 
 #include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/people/static_background.hpp"
 
 namespace fieldlidar::people {
 
@@ -61,7 +62,18 @@ struct LegDetectorConfig {
   double circle_rms_max_m = 0.02;  ///< rms distance of the arc points to the fitted circle (m)
   bool use_curve_min = false;
   double curve_min = 1.02;  ///< reject nearly straight arcs (walls, fences): L_k / D_k > this
+  /// 2D: a leg stands in front of what is behind it: the scan points just before and after the
+  /// arc must not be nearer to the sensor than the arc's nearest point minus this (m).
+  bool use_background = false;  ///< 2D: drop arcs on the static background (StaticBackground)
+  bool use_foreground = false;
+  double foreground_margin_m = 0.05;
 };
+
+/// Bounds for 2D laser scans of legs (0.33 deg resolution, people at 0.5-8 m), as estimated by
+/// `fieldlidar legs-train` on the annotated scans of ../shared/data/legs_2d, additions on.
+LegDetectorConfig default_2d_legs();
+/// `config` with every addition switched off: the seed's method alone.
+LegDetectorConfig seed_only(LegDetectorConfig config);
 
 /// Shape of one arc (one ring's points of one segment, in scan order).
 struct ArcFeatures {
@@ -103,6 +115,7 @@ enum class ArcVerdict : std::uint8_t {
   kChord,
   kCircle,
   kStraight,
+  kOccluded,
 };
 ArcVerdict classify_arc(const ArcFeatures& arc, const LegDetectorConfig& config);
 
@@ -123,11 +136,31 @@ struct LegDetection {
   std::size_t arcs_tested = 0;
 };
 
+/// True when neither scan neighbour of points [begin, end) is nearer to the sensor than the
+/// arc's nearest point minus `margin_m` (the arc is not seen through a gap behind something).
+bool in_foreground(std::span<const Eigen::Vector2d> ordered_points, std::size_t begin,
+                   std::size_t end, double margin_m);
+
 /// 2D path: one ring of ordered points (a LaserScan in beam order). Segments are split by jump
 /// distance, each segment is one arc; every accepted arc is a leg (one ring: min_rings is not
 /// applied). Points outside [range_min_m, range_max_m] are ignored.
+/// With `background` given (and `use_background` set), arcs lying on the static background are
+/// not legs; the caller updates the background with each scan after detection.
 LegDetection detect_legs_2d(std::span<const Eigen::Vector2d> ordered_points,
-                            const LegDetectorConfig& config);
+                            const LegDetectorConfig& config,
+                            const StaticBackground* background = nullptr);
+
+/// One arc of a 3D cluster: the points of one ring of one cluster between two splits.
+struct RingArc {
+  std::int32_t cluster = -1;
+  std::uint16_t ring = 0;
+  std::vector<std::uint32_t> indices;  ///< point indices into the cloud, in azimuth order
+  ArcFeatures features;
+};
+/// Seed 000, step 3, first part: every arc of every cluster within the range S (no test applied).
+std::vector<RingArc> extract_ring_arcs(const PointCloud& cloud,
+                                       std::span<const std::vector<std::uint32_t>> clusters,
+                                       const LegDetectorConfig& config);
 
 /// 3D path (seed 000, step 3): for each cluster (point indices into `cloud`, e.g. from
 /// segmentation) within the range S, for each ring, the cluster's points of that ring are put in

@@ -1,0 +1,127 @@
+// fieldlidar legs-train: the seed's "learned feature library". Estimates the leg bounds (delta_c,
+// L_min, L_max, dist_max and the additions' bounds) from annotated 2D scans (ROS bags with a
+// PoseArray of leg positions per scan) and scans without people, and writes the YAML config.
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+
+#include "commands.hpp"
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/io/file_util.hpp"
+#include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/io/rosbag_reader.hpp"
+#include "fieldlidar/people/leg_training.hpp"
+
+namespace fieldlidar::app {
+
+namespace {
+
+struct TrainOptions {
+  std::vector<std::string> positive;
+  std::vector<std::string> negative;
+  std::string scan_topic = "/training_scan";
+  std::string truth_topic = "/leg_cluster_positions";
+  std::vector<std::string> negative_topics;
+  std::string out;
+  double match_radius_m = 0.15;
+  double low_quantile = 0.02;
+  double high_quantile = 0.98;
+  bool force = false;
+};
+
+/// Adds the arcs of every scan of `topic` in `bag`, labelled against `truth` (PoseArray i belongs
+/// to scan i; empty truth = no people).
+void collect(const std::string& bag, const std::string& topic,
+             const std::vector<io::PoseArraySample>& truth, const people::LegDetectorConfig& base,
+             double radius, std::vector<people::LabelledArc>& arcs, std::vector<double>& pairs,
+             std::size_t& scans) {
+  io::SourceOptions so;
+  so.topic = topic;
+  auto src = io::FrameSource::open(bag, so);
+  while (auto f = src->next()) {
+    ++scans;
+    std::vector<Eigen::Vector2d> pts, legs;
+    for (const auto& p : f->cloud.points)
+      if (p.is_valid()) pts.emplace_back(p.x, p.y);
+    if (f->index < truth.size())
+      for (const auto& pose : truth[f->index].poses)
+        legs.emplace_back(pose.translation().x(), pose.translation().y());
+    const auto a = people::label_arcs_2d(pts, legs, base, radius);
+    arcs.insert(arcs.end(), a.begin(), a.end());
+    const auto d = people::leg_pair_distances(legs);
+    pairs.insert(pairs.end(), d.begin(), d.end());
+  }
+}
+
+void run_train(const TrainOptions& o) {
+  const std::filesystem::path out(o.out);
+  io::check_writable(out, o.force);
+  if (o.positive.empty()) throw Error("legs-train: give at least one --positive bag");
+  const people::LegDetectorConfig base = people::seed_only(people::default_2d_legs());
+  std::vector<people::LabelledArc> arcs;
+  std::vector<double> pairs;
+  std::size_t pos_scans = 0, neg_scans = 0;
+  for (const auto& bag : o.positive)
+    collect(bag, o.scan_topic, io::read_pose_arrays(bag, o.truth_topic), base, o.match_radius_m,
+            arcs, pairs, pos_scans);
+  for (const auto& bag : o.negative) {
+    std::vector<std::string> topics = o.negative_topics;
+    if (topics.empty())
+      for (const auto& t : io::bag_topics(bag))
+        if (t.datatype == "sensor_msgs/LaserScan") topics.push_back(t.name);
+    for (const auto& t : topics)
+      collect(bag, t, {}, base, o.match_radius_m, arcs, pairs, neg_scans);
+  }
+  people::TrainingOptions opt;
+  opt.low_quantile = o.low_quantile;
+  opt.high_quantile = o.high_quantile;
+  const auto r = people::estimate_leg_bounds(arcs, pairs, base, opt);
+  auto c = r.config;
+  // The additions measured to help on real scans are switched on in the written config.
+  c.use_min_points = c.use_chord_max = c.use_circle_fit = c.use_curve_min = c.use_background = true;
+  const std::string yaml =
+      fmt::format(
+          "# estimated by fieldlidar legs-train from {} annotated and {} people-free scans\n"
+          "# ({} leg arcs, {} other arcs, {} leg pairs; quantiles {:.3f}/{:.3f})\n",
+          pos_scans, neg_scans, r.leg_arcs, r.other_arcs, r.leg_pairs, o.low_quantile,
+          o.high_quantile) +
+      people::to_yaml(c);
+  io::write_file_atomic(out, yaml.data(), yaml.size(), o.force);
+  fmt::print(
+      "legs-train: {} leg arcs, {} other arcs from {} + {} scans\n"
+      "  delta_c {:.3f}, L_min {:.3f} m, L_max {:.3f} m, dist_max {:.3f} m\n"
+      "  leg arcs accepted: seed bounds {:.3f}, with additions {:.3f}\n"
+      "  other arcs accepted: seed bounds {:.3f}, with additions {:.3f}\nwrote {}\n",
+      r.leg_arcs, r.other_arcs, pos_scans, neg_scans, c.curve_max, c.path_min_m, c.path_max_m,
+      c.pair_distance_max_m, r.leg_accepted_seed, r.leg_accepted_all, r.other_accepted_seed,
+      r.other_accepted_all, out.string());
+}
+
+}  // namespace
+
+void add_legs_train_command(CLI::App& app) {
+  auto o = std::make_shared<TrainOptions>();
+  auto* cmd = app.add_subcommand(
+      "legs-train", "Estimate the leg detector's bounds from annotated scans, write its YAML");
+  cmd->add_option("--positive", o->positive, "Bags with scans and annotated legs")->required();
+  cmd->add_option("--negative", o->negative, "Bags of scans without people");
+  cmd->add_option("--scan-topic", o->scan_topic, "Scan topic of the positive bags")
+      ->capture_default_str();
+  cmd->add_option("--truth-topic", o->truth_topic, "PoseArray topic of the annotated legs")
+      ->capture_default_str();
+  cmd->add_option("--negative-topic", o->negative_topics,
+                  "Scan topics of the negative bags (default: every LaserScan topic)");
+  cmd->add_option("--match-radius", o->match_radius_m, "Arc-to-annotation match distance (m)")
+      ->capture_default_str();
+  cmd->add_option("--low-quantile", o->low_quantile)->capture_default_str();
+  cmd->add_option("--high-quantile", o->high_quantile)->capture_default_str();
+  cmd->add_option("--out", o->out, "YAML config to write")->required();
+  cmd->add_flag("--force", o->force, "Overwrite the output file");
+  cmd->callback([o] { run_train(*o); });
+}
+
+}  // namespace fieldlidar::app

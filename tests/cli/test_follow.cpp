@@ -1,0 +1,68 @@
+// End-to-end: fieldlidar follow writes the boundary, the log, the summary and the picture.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "run_cli.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar {
+namespace {
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(CliFollow, ShortRunWritesAllOutputsAndRefusesToOverwrite) {
+  const auto dir = test::temp_dir("cli_follow");
+  // 8 s of simulated following: enough for the formats, the full lap is in tests/follow.
+  const auto r = test::run_cli("follow --max-time 8 --out " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* f :
+       {"boundary.geojson", "boundary.csv", "follow_log.csv", "summary.json", "follow.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  const auto gj = nlohmann::json::parse(slurp(dir / "boundary.geojson"));
+  EXPECT_EQ(gj["features"][0]["geometry"]["type"], "Polygon");
+  const auto s = nlohmann::json::parse(slurp(dir / "summary.json"));
+  EXPECT_DOUBLE_EQ(s["config"]["L_s_m"].get<double>(), 1.2);
+  EXPECT_DOUBLE_EQ(s["config"]["L_m_m"].get<double>(), 7.0);
+  EXPECT_EQ(s["metrics"]["frames_moving_below_L_s"].get<int>(), 0);
+  EXPECT_GT(s["metrics"]["frames_following"].get<int>(), 60);  // of 80 frames
+  std::istringstream log(slurp(dir / "follow_log.csv"));
+  std::string header, row;
+  std::getline(log, header);
+  EXPECT_EQ(header.rfind("t,mower_x,mower_y,mower_yaw,est_x,est_y,true_target_x,true_target_y,"
+                         "distance,",
+                         0),
+            0u);
+  for (const char* col : {"wheel_left", "wheel_right", "state"})
+    EXPECT_NE(header.find(col), std::string::npos) << col;
+  int rows = 0;
+  while (std::getline(log, row)) ++rows;
+  EXPECT_EQ(rows, 80);
+  const auto again = test::run_cli("follow --max-time 1 --out " + dir.string());
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.output.find("fieldlidar: error:"), std::string::npos);
+}
+
+TEST(CliFollow, RejectsUnknownScenarioAndBadDistances) {
+  const auto dir = test::temp_dir("cli_follow_bad");
+  auto r = test::run_cli("follow --scenario dance --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--scenario 'dance'"), std::string::npos) << r.output;
+  r = test::run_cli("follow --safe-distance 5 --max-distance 3 --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--safe-distance"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace fieldlidar

@@ -1,0 +1,113 @@
+#pragma once
+// The annotated 2D leg scans of ../shared/data/legs_2d loaded for evaluation: each scan's points
+// in beam order and its annotated legs (PoseArray i belongs to scan i).
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/io/rosbag_reader.hpp"
+#include "fieldlidar/people/leg_training.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar::test {
+
+struct LegScan {
+  std::vector<Eigen::Vector2d> points;
+  std::vector<Eigen::Vector2d> legs;  ///< annotated (empty for negative scans)
+  bool first_of_bag = false;
+};
+
+inline std::vector<LegScan> load_leg_scans(const std::string& bag, const std::string& topic,
+                                           const std::string& truth_topic) {
+  std::vector<LegScan> scans;
+  std::vector<io::PoseArraySample> truth;
+  if (!truth_topic.empty()) truth = io::read_pose_arrays(data_file(bag), truth_topic);
+  io::SourceOptions so;
+  so.topic = topic;
+  auto src = io::FrameSource::open(data_file(bag), so);
+  while (auto f = src->next()) {
+    LegScan s;
+    for (const auto& p : f->cloud.points)
+      if (p.is_valid()) s.points.emplace_back(p.x, p.y);
+    if (f->index < truth.size())
+      for (const auto& pose : truth[f->index].poses)
+        s.legs.emplace_back(pose.translation().x(), pose.translation().y());
+    s.first_of_bag = scans.empty();
+    scans.push_back(std::move(s));
+  }
+  return scans;
+}
+
+inline std::vector<LegScan> positive_scans(std::initializer_list<int> bags = {1, 2, 3, 4}) {
+  std::vector<LegScan> all;
+  for (int b : bags) {
+    auto s = load_leg_scans("legs_2d/positive_" + std::to_string(b) + "_extracted.bag",
+                            "/training_scan", "/leg_cluster_positions");
+    all.insert(all.end(), s.begin(), s.end());
+  }
+  return all;
+}
+
+inline std::vector<LegScan> negative_scans() {
+  std::vector<LegScan> all;
+  for (const char* t : {"/left_scan", "/rear_scan", "/right_scan"}) {
+    auto s = load_leg_scans("legs_2d/negative_2.bag", t, "");
+    all.insert(all.end(), s.begin(), s.end());
+  }
+  return all;
+}
+
+struct LegScores {
+  people::MatchCounts legs;
+  double recall = 0, precision = 0;
+  double false_persons_per_scan = 0;
+};
+
+/// Scans in order of `pos` form one sequence per bag; the background model restarts at each bag.
+inline LegScores score_legs(const people::LegDetectorConfig& c, const std::vector<LegScan>& pos,
+                            const std::vector<LegScan>& neg, double radius = 0.15) {
+  LegScores s;
+  people::StaticBackground bg;
+  for (const auto& scan : pos) {
+    if (scan.first_of_bag) bg = people::StaticBackground();
+    const auto d = people::detect_legs_2d(scan.points, c, &bg);
+    bg.update(scan.points);
+    std::vector<Eigen::Vector2d> legs;
+    for (const auto& l : d.legs) legs.push_back(l.position_m);
+    s.legs += people::match_points(legs, scan.legs, radius);
+  }
+  std::size_t persons = 0;
+  for (const auto& scan : neg) {
+    if (scan.first_of_bag) bg = people::StaticBackground();
+    persons += people::detect_legs_2d(scan.points, c, &bg).people.size();
+    bg.update(scan.points);
+  }
+  s.recall = s.legs.recall();
+  s.precision = s.legs.precision();
+  s.false_persons_per_scan = neg.empty() ? 0 : double(persons) / double(neg.size());
+  return s;
+}
+
+inline people::TrainingResult train_legs(const std::vector<LegScan>& pos,
+                                         const std::vector<LegScan>& neg,
+                                         const people::LegDetectorConfig& base,
+                                         const people::TrainingOptions& opt = {}) {
+  std::vector<people::LabelledArc> arcs;
+  std::vector<double> pairs;
+  for (const auto& s : pos) {
+    auto a = people::label_arcs_2d(s.points, s.legs, base, 0.15);
+    arcs.insert(arcs.end(), a.begin(), a.end());
+    auto p = people::leg_pair_distances(s.legs);
+    pairs.insert(pairs.end(), p.begin(), p.end());
+  }
+  for (const auto& s : neg) {
+    auto a = people::label_arcs_2d(s.points, {}, base, 0.15);
+    arcs.insert(arcs.end(), a.begin(), a.end());
+  }
+  return people::estimate_leg_bounds(arcs, pairs, base, opt);
+}
+
+}  // namespace fieldlidar::test

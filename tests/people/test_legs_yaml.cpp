@@ -1,0 +1,50 @@
+#include <gtest/gtest.h>
+
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/people/leg_training.hpp"
+
+namespace fieldlidar::people {
+namespace {
+
+TEST(LegsYaml, RoundTripsEveryField) {
+  LegDetectorConfig c;
+  c.curve_max = 1.75;
+  c.path_min_m = 0.061;
+  c.min_rings = 3;
+  c.use_circle_fit = true;
+  c.smooth_window = 5;
+  const auto back = legs_config_from_yaml(to_yaml(c), "test");
+  EXPECT_DOUBLE_EQ(back.curve_max, 1.75);
+  EXPECT_DOUBLE_EQ(back.path_min_m, 0.061);
+  EXPECT_EQ(back.min_rings, 3);
+  EXPECT_TRUE(back.use_circle_fit);
+  EXPECT_EQ(back.smooth_window, 5);
+  EXPECT_EQ(to_yaml(back), to_yaml(c));
+}
+
+TEST(LegsYaml, UnknownKeysAndBadValuesNameTheSource) {
+  try {
+    legs_config_from_yaml("legs:\n  curvy: 2\n", "my.yaml");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("my.yaml: unknown leg detector setting 'curvy'"),
+              std::string::npos);
+  }
+  EXPECT_THROW(legs_config_from_yaml("legs:\n  curve_max: abc\n", "x"), Error);
+  EXPECT_THROW(legs_config_from_yaml("legs:\n  path_min_m: 0.5\n  path_max_m: 0.2\n", "x"), Error);
+  EXPECT_DOUBLE_EQ(legs_config_from_yaml("curve_max: 2.5\n", "x").curve_max, 2.5);  // bare map
+}
+
+TEST(Matching, OneToOneWithinTheRadius) {
+  const std::vector<Eigen::Vector2d> det{{0, 0}, {0.1, 0}, {5, 5}};
+  const std::vector<Eigen::Vector2d> truth{{0.05, 0}, {1, 1}};
+  const auto m = match_points(det, truth, 0.15);
+  EXPECT_EQ(m.true_positive, 1u);
+  EXPECT_EQ(m.false_positive, 2u);
+  EXPECT_EQ(m.false_negative, 1u);
+  EXPECT_DOUBLE_EQ(m.precision(), 1.0 / 3);
+  EXPECT_DOUBLE_EQ(m.recall(), 0.5);
+}
+
+}  // namespace
+}  // namespace fieldlidar::people
