@@ -379,15 +379,19 @@ class MappedFile {
 
 PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source) {
   const PcdHeader h = parse_header(bytes, source);
-  const std::uint64_t data_bytes = h.points * h.point_step;
+  // Bounds by division first, so that no product of header numbers can wrap around.
   const std::uint64_t available = bytes.size() - h.data_offset;
-  if (h.data_type == 1 && data_bytes > available)
+  if (h.data_type == 1 && h.points > available / h.point_step)
     fail(source, "truncated: " + std::to_string(h.points) + " points of " +
-                     std::to_string(h.point_step) + " bytes need " + std::to_string(data_bytes) +
-                     " bytes, only " + std::to_string(available) + " follow the header");
+                     std::to_string(h.point_step) + " bytes do not fit in the " +
+                     std::to_string(available) + " bytes that follow the header");
   if (h.data_type == 0 && h.points > available)
     fail(source, "truncated: " + std::to_string(h.points) + " points cannot fit in the " +
                      std::to_string(available) + " bytes of ascii data");
+  if (h.data_type == 2 && h.points > UINT32_MAX / h.point_step)
+    fail(source, std::to_string(h.points) + " points of " + std::to_string(h.point_step) +
+                     " bytes exceed the 4 GiB a binary_compressed body can hold");
+  const std::uint64_t data_bytes = h.points * h.point_step;
   if (h.data_type == 2 && h.points > 0) {
     if (available < 8) fail(source, "truncated: binary_compressed data has no size words");
     const std::uint32_t compressed = get_u32(bytes, h.data_offset);

@@ -52,10 +52,8 @@ struct PlyElement {
 
 /// Checks the header strictly and bounds every element count by the bytes that follow it, so
 /// that PCL's parser never sees a count it would allocate for but cannot read.
-void check_header(std::span<const std::byte> bytes, const std::string& source) {
-  const std::string_view text(reinterpret_cast<const char*>(bytes.data()),
-                              std::min(bytes.size(), kMaxHeaderBytes));
-  if (bytes.empty()) fail(source, "file is empty");
+void check_header(std::string_view text, std::uint64_t file_size, const std::string& source) {
+  if (file_size == 0) fail(source, "file is empty");
   if (text.substr(0, 4) != "ply\n" && text.substr(0, 5) != "ply\r\n")
     fail(source, "file does not start with 'ply' (not a PLY file)");
   std::size_t pos = text.find('\n') + 1;
@@ -106,7 +104,7 @@ void check_header(std::span<const std::byte> bytes, const std::string& source) {
     }
   }
   if (format < 0) fail(source, "header has no format line");
-  const std::uint64_t available = bytes.size() - pos;
+  const std::uint64_t available = file_size - pos;
   std::uint64_t need = 0;
   bool vertex = false;
   for (const auto& e : elements) {
@@ -129,18 +127,26 @@ void check_header(std::span<const std::byte> bytes, const std::string& source) {
   if (!vertex) fail(source, "has no vertex element");
 }
 
-std::vector<std::byte> read_head(const std::filesystem::path& path) {
-  // Only the header is checked here; PCL reads the body itself.
+/// The first kMaxHeaderBytes of the file (the header must lie within them) and its size.
+std::string read_head(const std::filesystem::path& path, std::uint64_t& file_size) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw Error(path.string() + ": no such file");
-  return read_file_bytes(path);
+  file_size = std::filesystem::file_size(path, ec);
+  if (ec) throw Error(path.string() + ": cannot determine its size");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path.string() + ": cannot open for reading");
+  std::string head(std::min<std::uint64_t>(file_size, kMaxHeaderBytes), '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  if (!in) throw Error(path.string() + ": read failed");
+  return head;
 }
 
 }  // namespace
 
 PointCloud read_ply(const std::filesystem::path& path) {
-  const auto bytes = read_head(path);
-  check_header(bytes, path.string());
+  std::uint64_t file_size = 0;
+  const std::string head = read_head(path, file_size);
+  check_header(head, file_size, path.string());
   pcl::PCLPointCloud2 blob;
   {
     detail::QuietPcl quiet;

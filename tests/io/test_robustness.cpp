@@ -94,6 +94,23 @@ TEST(Robustness, EveryTruncationOfABinaryPcdIsAnError) {
   }
 }
 
+TEST(Robustness, PcdHeaderNumbersThatWouldOverflowAreErrors) {
+  // WIDTH x HEIGHT x point size wraps around 2^64 to a small number: must not pass the size check.
+  for (const char* data : {"binary", "binary_compressed", "ascii"}) {
+    const std::string text =
+        std::string(
+            "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 4294967295\n"
+            "HEIGHT 4294967295\nPOINTS 18446744065119617025\nDATA ") +
+        data + "\n" + std::string(64, '\x01');
+    expect_error_naming([&] { io::parse_pcd(text_bytes(text), "huge.pcd"); }, "huge.pcd", data);
+  }
+  const std::string step =
+      "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 4611686018427387904\n"
+      "WIDTH 1\nPOINTS 1\nDATA binary\n" +
+      std::string(64, '\x01');
+  expect_error_naming([&] { io::parse_pcd(text_bytes(step), "count.pcd"); }, "count.pcd", "COUNT");
+}
+
 TEST(Robustness, TruncatedAsciiPcdNeverReturnsFewerPoints) {
   const auto dir = test::temp_dir("robust_pcd_ascii");
   const auto cloud = small_cloud();
