@@ -286,6 +286,9 @@ SimFrame LidarSimulator::scan(double t0_s, const std::function<Pose(double)>& T_
         last_time = b.time_s;
         const double t = t0_s + b.time_s;
         poses.push_back(T_world_lidar(t));
+        if (!poses.back().matrix().allFinite())
+          throw std::invalid_argument("LidarSimulator::scan: T_world_lidar(" + std::to_string(t) +
+                                      ") is not finite");
         // People move at most ~2 m/s: re-posing them every 0.5 ms keeps them within 1 mm.
         if (people && std::abs(t - body_time) > 5e-4) {
           current_bodies = im.bodies_at(t);

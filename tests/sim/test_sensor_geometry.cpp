@@ -169,6 +169,22 @@ TEST(SimSensor, DropoutsMinRangeAndIntensity) {
   EXPECT_NE(a.cloud.size(), c.cloud.size());
 }
 
+TEST(SimSensor, MaxRangeCutsFarReturns) {
+  auto sensor = SensorModel::vlp16();
+  sensor.max_range_m = 8.0;  // the room's walls are 20 m away
+  SimConfig cfg;
+  cfg.range_noise_m = 0.0;
+  const auto frame =
+      LidarSimulator(room_scene(), sensor, cfg).scan(0.0, make_pose(0, 0, 1.0, 0, 0, 0));
+  ASSERT_GT(frame.cloud.size(), 1000u);
+  for (std::size_t i = 0; i < frame.cloud.size(); ++i) {
+    EXPECT_LE(frame.cloud.points[i].xyz().norm(), 8.0f);
+    EXPECT_EQ(label_class(frame.cloud.labels[i]), LabelClass::kGround);
+  }
+  // Only beams steeper than atan(1 / 8) reach the ground within 8 m: rings 0..3 (-15..-9 deg).
+  EXPECT_EQ(frame.cloud.ring_count(), 4u);
+}
+
 TEST(SimSensor, InvalidSensorIsRejected) {
   auto bad = SensorModel::vlp16();
   bad.max_range_m = 0.1;
@@ -176,6 +192,10 @@ TEST(SimSensor, InvalidSensorIsRejected) {
   SimConfig cfg;
   cfg.dropout_probability = 1.5;
   EXPECT_THROW(LidarSimulator(room_scene(), SensorModel::vlp16(), cfg), std::invalid_argument);
+  const LidarSimulator sim(room_scene(), SensorModel::vlp16());
+  EXPECT_THROW(
+      sim.scan(0.0, [](double t) { return make_pose(t > 0.05 ? NAN : 0.0, 0, 1, 0, 0, 0); }),
+      std::invalid_argument);
 }
 
 }  // namespace

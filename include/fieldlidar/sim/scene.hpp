@@ -93,10 +93,11 @@ class Scene {
   void add_tree(const TreeTruth& tree) { trees_.push_back(tree); }
   const std::vector<ObstacleTruth>& obstacles() const { return obstacles_; }
   void add_obstacle(const ObstacleTruth& o) { obstacles_.push_back(o); }
-  /// Terrain truth on a grid of the given resolution covering the scene. Layers: "elevation" (m),
-  /// "slope_deg" (max over the cell), "step_m" (height range over the cell and its 8 neighbours),
-  /// "obstacle" (1 = a rock/bush/structure between min_obstacle_height and clearance),
-  /// "passable" (1 passable, 0 not).
+  /// Terrain truth on a grid of the given resolution covering the scene. Layers: "elevation" (m,
+  /// at the cell centre), "slope_deg" (steepest ground within the cell), "step_m" (height range
+  /// over the cell and its 8 neighbours beyond what max_slope_deg explains over 3 cells),
+  /// "obstacle" (1 = an ObstacleTruth reaching into [min_obstacle_height, clearance]),
+  /// "passable" (1 when slope, step and obstacle are all within the limits, else 0).
   Grid2D terrain_truth(const TerrainTruthConfig& config = {}) const;
 
   // --- the robot
