@@ -154,6 +154,45 @@ RobotMotion drive_scene_route(const Scene& scene, double duration_s, DriveConfig
   return drive_route(scene, scene.robot_route(), scene.robot_route_closed(), duration_s, config);
 }
 
+RobotMotion timed_route(const Scene& scene, std::span<const TimedWaypoint> waypoints,
+                        const DriveConfig& config) {
+  if (waypoints.size() < 2) throw std::invalid_argument("timed_route: needs at least 2 waypoints");
+  for (std::size_t i = 1; i < waypoints.size(); ++i)
+    if (!(waypoints[i].stamp_s > waypoints[i - 1].stamp_s))
+      throw std::invalid_argument("timed_route: waypoint times must increase (waypoint " +
+                                  std::to_string(i) + ")");
+  const double dt = 1.0 / config.rate_hz;
+  Trajectory base;
+  std::size_t seg = 0;
+  double yaw = 0.0;
+  // Initial heading: towards the first waypoint that is elsewhere.
+  for (std::size_t i = 1; i < waypoints.size(); ++i) {
+    const Eigen::Vector2d d = waypoints[i].xy_m - waypoints[0].xy_m;
+    if (d.norm() > 1e-6) {
+      yaw = std::atan2(d.y(), d.x());
+      break;
+    }
+  }
+  const double t0 = waypoints.front().stamp_s, t1 = waypoints.back().stamp_s;
+  const int steps = static_cast<int>(std::ceil((t1 - t0) / dt));
+  for (int k = 0; k <= steps; ++k) {
+    const double t = std::min(t0 + k * dt, t1);
+    while (seg + 2 < waypoints.size() && t > waypoints[seg + 1].stamp_s) ++seg;
+    const auto& a = waypoints[seg];
+    const auto& b = waypoints[seg + 1];
+    const double u = std::clamp((t - a.stamp_s) / (b.stamp_s - a.stamp_s), 0.0, 1.0);
+    const Eigen::Vector2d d = b.xy_m - a.xy_m;
+    if (d.norm() > 1e-6) yaw = std::atan2(d.y(), d.x());
+    if (k > 0 && t <= base.poses().back().stamp_s) break;
+    base.push_back(
+        t, pose_on_ground(scene, a.xy_m + u * d, yaw, config.wheel_base_m, config.track_width_m));
+  }
+  const double h = config.sensor_height_m >= 0 ? config.sensor_height_m : scene.sensor_height_m();
+  Pose T_base_lidar = Pose::Identity();
+  T_base_lidar.translation() = Eigen::Vector3d(0, 0, h);
+  return RobotMotion(std::move(base), T_base_lidar);
+}
+
 RobotMotion follow_operator(const Scene& scene, std::uint16_t person_id, double duration_s,
                             const DriveConfig& config) {
   const Walker* op = nullptr;

@@ -140,6 +140,26 @@ TEST(SimMotion, RobotDrivesTheRouteOnTheGround) {
   EXPECT_GT(motion.base().path_length_m(), 25.0);
 }
 
+TEST(SimMotion, TimedWaypointsAreReachedOnTime) {
+  const Scene scene = make_lawn_scene({}, 0);
+  const std::vector<TimedWaypoint> wps = {
+      {0.0, {2, 2}}, {4.0, {6, 2}}, {6.0, {6, 2}}, {10.0, {6, 6}}};
+  const auto motion = timed_route(scene, wps);
+  EXPECT_NEAR(motion.start_s(), 0.0, 1e-12);
+  EXPECT_NEAR(motion.end_s(), 10.0, 1e-12);
+  for (const auto& w : wps) {
+    EXPECT_LT((motion.T_world_base(w.stamp_s).translation().head<2>() - w.xy_m).norm(), 1e-9);
+    EXPECT_NEAR(motion.T_world_base(w.stamp_s).translation().z(), scene.ground_height_at(w.xy_m),
+                0.05);
+  }
+  EXPECT_LT((motion.T_world_base(2.0).translation().head<2>() - Eigen::Vector2d(4, 2)).norm(),
+            1e-6);
+  EXPECT_NEAR(yaw_of(motion.T_world_base(5.0)), 0.0, 1e-9);  // standing: keeps its heading
+  EXPECT_NEAR(yaw_of(motion.T_world_base(8.0)), std::numbers::pi / 2, 1e-9);
+  const std::vector<TimedWaypoint> bad = {{1.0, {0, 0}}, {1.0, {1, 0}}};
+  EXPECT_THROW(timed_route(scene, bad), std::invalid_argument);
+}
+
 TEST(SimMotion, MowerFollowsTheOperatorAtTheLag) {
   LawnConfig cfg;
   cfg.operator_stops = true;

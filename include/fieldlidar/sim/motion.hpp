@@ -58,6 +58,16 @@ RobotMotion drive_scene_route(const Scene& scene, double duration_s, DriveConfig
 /// (stops while the operator stands, falls behind when they walk too fast).
 RobotMotion follow_operator(const Scene& scene, std::uint16_t person_id, double duration_s,
                             const DriveConfig& config = {});
+/// A scripted waypoint with the time (s) the robot is there.
+struct TimedWaypoint {
+  double stamp_s = 0.0;
+  Eigen::Vector2d xy_m = Eigen::Vector2d::Zero();
+};
+/// Moves through timed waypoints (increasing times), straight at constant speed between two,
+/// heading along the motion (kept while standing), on the ground; sampled at config.rate_hz.
+/// Throws std::invalid_argument for fewer than 2 waypoints or non-increasing times.
+RobotMotion timed_route(const Scene& scene, std::span<const TimedWaypoint> waypoints,
+                        const DriveConfig& config = {});
 /// Pose of a robot base resting on the ground at (x, y) with heading yaw.
 Pose pose_on_ground(const Scene& scene, const Eigen::Vector2d& xy_m, double yaw_rad,
                     double wheel_base_m = 0.6, double track_width_m = 0.5);
