@@ -93,10 +93,14 @@ Trail::Projection Trail::project(const Eigen::Vector2d& p, std::size_t window) c
     if (i > begin) s = std::max(s, 0.0);
     const Eigen::Vector2d q = a + s * u;
     const double d = (p - q).norm();
-    if (d < best_d) {
+    // Ties (a point beyond a corner is equally near the end of one segment and the start of the
+    // next) go to the later segment: its direction is where the trail goes on. The lateral error
+    // is the full distance, so a pose beyond a corner is never "on the trail".
+    if (d <= best_d) {
       best_d = d;
       const Eigen::Vector2d r = p - q;
-      best.lateral_m = u.x() * r.y() - u.y() * r.x();
+      const double side = u.x() * r.y() - u.y() * r.x();
+      best.lateral_m = side >= 0 ? d : -d;
       best.heading_rad = std::atan2(u.y(), u.x());
       best.along_m = along + s;
       best.valid = true;
@@ -169,6 +173,11 @@ FollowController::Output FollowController::step(const Pose2& mower,
                             0.0, drive_.max_speed_m_s);
   const bool hold = v_des <= 0.0;  // close enough: stand still rather than turn in place
   if (here.valid) v_des *= std::max(0.0, std::cos(wrap(mower.yaw_rad - here.heading_rad)));
+  // Slow down before a corner: the trail's direction one prediction horizon ahead differs.
+  const auto ahead =
+      trail.project(predict_pose(mower, v_, 0.0, drive_.track_width_m, drive_.prediction_s).xy());
+  if (here.valid && ahead.valid)
+    v_des *= std::max(0.3, std::cos(wrap(ahead.heading_rad - here.heading_rad)));
   const double dv_acc = drive_.max_accel_m_s2 * dt;
   double v = std::clamp(v_des, v_ - dv_acc, v_ + dv_acc);
   double dv = hold ? 0.0 : choose_dv(mower, v, trail, drive_);

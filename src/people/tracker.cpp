@@ -149,32 +149,41 @@ TrackerUpdate PersonTracker::update(double stamp_s, std::span<const Eigen::Vecto
     const double vs = config_.initial_speed_sigma_m_s * config_.initial_speed_sigma_m_s;
     t.covariance = Eigen::Vector4d(ps, vs, ps, vs).asDiagonal();
     t.hits = 1;
-    t.last_update_s = t.stamp_s = stamp_s;
+    t.last_update_s = t.stamp_s = t.born_s = stamp_s;
     t.confirmed = config_.confirm_hits <= 1;
     result.track_of_detection[j] = t.id;
     tracks_.push_back(t);
   }
 
-  // Target bookkeeping and re-acquisition after the target track died.
+  // Target bookkeeping and re-acquisition after a loss (occlusion, a missed turn).
   if (target_id_) {
-    if (const Track* t = find(*target_id_)) {
-      if (t->missed_frames == 0) {
-        target_last_m_ = t->position();
-        target_last_s_ = stamp_s;
-      }
-    } else if (stamp_s - target_last_s_ <= config_.reacquire_window_s) {
-      const Track* best = nullptr;
-      for (const auto& c : tracks_)
-        if (c.confirmed && c.missed_frames == 0 &&
-            (c.position() - target_last_m_).norm() <= config_.reacquire_radius_m &&
+    const auto it = std::find_if(tracks_.begin(), tracks_.end(),
+                                 [&](const Track& t) { return t.id == *target_id_; });
+    const bool tracked = it != tracks_.end() && it->missed_frames <= config_.coast_frames;
+    if (it != tracks_.end() && it->missed_frames == 0) {
+      target_last_m_ = it->position();
+      target_last_s_ = stamp_s;
+    } else if (!tracked && stamp_s - target_last_s_ <= config_.reacquire_window_s) {
+      const double radius =
+          std::min(config_.reacquire_max_radius_m,
+                   config_.reacquire_radius_m + config_.max_speed_m_s * (stamp_s - target_last_s_));
+      Track* best = nullptr;
+      for (auto& c : tracks_)
+        if (c.id != *target_id_ && c.confirmed && c.missed_frames == 0 &&
+            c.born_s > target_last_s_ && (c.position() - target_last_m_).norm() <= radius &&
+            c.velocity().norm() >= config_.reacquire_min_speed_m_s &&
             (!best ||
              (c.position() - target_last_m_).norm() < (best->position() - target_last_m_).norm()))
           best = &c;
       if (best) {
-        target_id_ = best->id;
+        const std::uint32_t old_id = best->id;
+        best->id = *target_id_;
+        for (auto& d : result.track_of_detection)
+          if (d == old_id) d = *target_id_;
         target_last_m_ = best->position();
         target_last_s_ = stamp_s;
         result.target_updated = true;
+        if (it != tracks_.end()) tracks_.erase(it);  // invalidates `best`
       }
     }
   }

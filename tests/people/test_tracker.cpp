@@ -154,10 +154,11 @@ TEST(Tracker, TargetIsReacquiredNearItsLastPositionAfterItsTrackDied) {
   for (int k = 5; k < 12; ++k) tracker.update(0.1 * k, {});
   EXPECT_TRUE(tracker.tracks().empty());
   EXPECT_TRUE(tracker.target_lost());
-  for (int k = 12; k < 16; ++k)
-    tracker.update(0.1 * k, std::vector<Eigen::Vector2d>{{2.3, 0.1}, {6, 6}});
+  for (int k = 12; k < 20; ++k)  // walking away at 1 m/s; the clutter at (6, 6) stands still
+    tracker.update(0.1 * k, std::vector<Eigen::Vector2d>{{2.3 + 0.1 * (k - 12), 0.1}, {6, 6}});
   ASSERT_NE(tracker.target(), nullptr);
-  EXPECT_NEAR(tracker.target()->position().x(), 2.3, 0.05);
+  EXPECT_EQ(*tracker.target_id(), 1u);  // the id is kept
+  EXPECT_NEAR(tracker.target()->position().x(), 3.0, 0.1);
 }
 
 TEST(Tracker, RejectsTimeGoingBackwards) {

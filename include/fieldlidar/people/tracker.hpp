@@ -29,10 +29,13 @@ struct TrackerConfig {
   /// detection is a duplicate (e.g. a leg paired with the wrong leg).
   double birth_min_separation_m = 0.4;
   int coast_frames = 1;  ///< the target counts as lost after more missed frames than this
-  /// When the target track dies, a new confirmed track born within this distance of the target's
-  /// last estimate (m) within `reacquire_window_s` inherits the target role.
+  /// While the target is lost, a confirmed track born after the target's last detection within
+  /// reacquire_radius_m + max_speed_m_s * (time lost) of its last estimate, within
+  /// `reacquire_window_s`, is the target again and takes over its id (the id stays stable).
   double reacquire_radius_m = 1.0;
-  double reacquire_window_s = 5.0;
+  double reacquire_window_s = 6.0;
+  double reacquire_max_radius_m = 4.0;   ///< the search radius never grows beyond this (m)
+  double reacquire_min_speed_m_s = 0.3;  ///< the candidate walks (static clutter does not)
 };
 
 /// One person's filter: state X = [x, vx, y, vy] (seed's A with period T), measurement [x, y].
@@ -44,6 +47,7 @@ struct Track {
   int missed_frames = 0;     ///< consecutive frames without a detection
   double last_update_s = 0;  ///< time of the last detection
   double stamp_s = 0;        ///< time of the state
+  double born_s = 0;         ///< time of the first detection
   bool confirmed = false;
 
   Eigen::Vector2d position() const { return {state[0], state[2]}; }
