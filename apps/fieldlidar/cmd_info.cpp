@@ -116,13 +116,15 @@ nlohmann::json describe(const InfoOptions& opts) {
                    {"max", {bounds.max.x(), bounds.max.y(), bounds.max.z()}}};
   const std::size_t all = frames + partial;
   if (all > 1) {
-    j["per_frame"] = {
-        {"points_min", min_pts},
-        {"points_mean", double(points) / double(all)},
-        {"points_max", max_pts},
-        {"period_s_mean", frames > 1 ? (last_full_s - first_full_s) / double(frames - 1)
-                                     : (last_stamp - first_stamp) / double(all - 1)},
-        {"duration_s", last_stamp - first_stamp}};
+    j["per_frame"] = {{"points_min", min_pts},
+                      {"points_mean", double(points) / double(all)},
+                      {"points_max", max_pts}};
+    if (last_stamp > first_stamp) {  // files without stamps have no period to report
+      j["per_frame"]["period_s_mean"] = frames > 1
+                                            ? (last_full_s - first_full_s) / double(frames - 1)
+                                            : (last_stamp - first_stamp) / double(all - 1);
+      j["per_frame"]["duration_s"] = last_stamp - first_stamp;
+    }
   }
   const double inf = std::numeric_limits<double>::infinity();
   if (const auto imu = source->imu_until(inf).size()) j["imu_samples"] = imu;
@@ -142,10 +144,12 @@ void print_text(const nlohmann::json& j) {
   fmt::print("points:  {} ({} valid)\n", j["points"].get<long>(), j["valid_points"].get<long>());
   if (j.contains("per_frame")) {
     const auto& p = j["per_frame"];
-    fmt::print("per frame: {} .. {} points (mean {:.0f}), period {:.4f} s, span {:.3f} s\n",
-               p["points_min"].get<long>(), p["points_max"].get<long>(),
-               p["points_mean"].get<double>(), p["period_s_mean"].get<double>(),
-               p["duration_s"].get<double>());
+    fmt::print("per frame: {} .. {} points (mean {:.0f})", p["points_min"].get<long>(),
+               p["points_max"].get<long>(), p["points_mean"].get<double>());
+    if (p.contains("period_s_mean"))
+      fmt::print(", period {:.4f} s, span {:.3f} s", p["period_s_mean"].get<double>(),
+                 p["duration_s"].get<double>());
+    fmt::print("\n");
   }
   std::string fields;
   for (const auto& f : j["fields"]) fields += (fields.empty() ? "" : " ") + f.get<std::string>();
