@@ -1,0 +1,120 @@
+// Detection + tracking per frame (seed 000, steps 2-5): simulated VLP-16 and HDL-64E sweeps of
+// the lawn with the operator ahead (ground and clusters included, as the follow loop runs them),
+// and real 2D scans.
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+
+#include "fieldlidar/follow/pipeline.hpp"
+#include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/people/tracker.hpp"
+#include "fieldlidar/sim/lidar_simulator.hpp"
+#include "fieldlidar/sim/scenes.hpp"
+
+namespace {
+
+using namespace fieldlidar;
+
+struct SimFrames {
+  SensorModel sensor;
+  std::vector<PointCloud> clouds;
+  Pose T;
+};
+
+SimFrames make_frames(const SensorModel& s0, int n) {
+  const auto scene = sim::make_lawn_scene({}, 0);
+  SimFrames f;
+  f.sensor = s0;
+  f.sensor.mounting_height_m = scene.sensor_height_m();
+  const sim::LidarSimulator lidar(scene, f.sensor);
+  f.T = make_pose(1, 1, scene.ground_height_at({1, 1}) + scene.sensor_height_m(), 0, 0, 0);
+  for (int k = 0; k < n; ++k) f.clouds.push_back(lidar.scan(0.1 * k, f.T).cloud);
+  return f;
+}
+
+void detect_and_track(benchmark::State& state, const SensorModel& model) {
+  static std::map<std::string, SimFrames> cache;
+  auto it = cache.find(model.name);
+  if (it == cache.end()) it = cache.emplace(model.name, make_frames(model, 20)).first;
+  const auto& f = it->second;
+  follow::FollowConfig cfg;
+  people::PersonTracker tracker;
+  std::size_t k = 0, people_found = 0;
+  double t = 0;
+  for (auto _ : state) {
+    const auto& cloud = f.clouds[k++ % f.clouds.size()];
+    const auto per = follow::perceive(cloud, f.sensor, f.T, cfg);
+    tracker.update(t += 0.1, per.people_m);
+    people_found += per.people_m.size();
+    benchmark::DoNotOptimize(tracker.tracks().data());
+  }
+  state.counters["points"] = double(f.clouds[0].size());
+  state.counters["people_per_frame"] = double(people_found) / double(state.iterations());
+}
+
+void BM_DetectTrack_VLP16(benchmark::State& s) {
+  detect_and_track(s, SensorModel::vlp16());
+}
+void BM_DetectTrack_HDL64E(benchmark::State& s) {
+  detect_and_track(s, SensorModel::hdl64e());
+}
+BENCHMARK(BM_DetectTrack_VLP16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DetectTrack_HDL64E)->Unit(benchmark::kMillisecond);
+
+/// Legs + tracking alone (clusters given): the seed's part without ground and clustering.
+void BM_LegsOnly_VLP16(benchmark::State& state) {
+  static const auto f = make_frames(SensorModel::vlp16(), 20);
+  follow::FollowConfig cfg;
+  std::vector<std::vector<std::vector<std::uint32_t>>> clusters;
+  for (const auto& c : f.clouds) {
+    const auto g = segmentation::segment_ground(c, f.sensor, cfg.ground);
+    const auto cl = segmentation::cluster_euclidean(c, g.is_ground, cfg.clusters);
+    auto& v = clusters.emplace_back();
+    for (const auto& x : cl.clusters) v.push_back(x.indices);
+  }
+  auto legs = cfg.legs;
+  legs.split_azimuth_gap_rad = 2.5 * f.sensor.horizontal_resolution_rad();
+  people::PersonTracker tracker;
+  std::size_t k = 0;
+  double t = 0;
+  for (auto _ : state) {
+    const auto i = k++ % f.clouds.size();
+    const auto det = people::detect_legs_3d(f.clouds[i], clusters[i], legs);
+    std::vector<Eigen::Vector2d> pos;
+    for (const auto& p : det.people) pos.push_back(p.position_m);
+    tracker.update(t += 0.1, pos);
+  }
+}
+BENCHMARK(BM_LegsOnly_VLP16)->Unit(benchmark::kMicrosecond);
+
+void BM_Legs2D_RealScan(benchmark::State& state) {
+  const auto bag =
+      std::filesystem::path(FIELDLIDAR_DEFAULT_DATA_DIR) / "legs_2d" / "positive_1_extracted.bag";
+  if (!std::filesystem::exists(bag)) {
+    state.SkipWithError("legs_2d data absent");
+    return;
+  }
+  std::vector<std::vector<Eigen::Vector2d>> scans;
+  auto src = io::FrameSource::open(bag, {"/training_scan", {}});
+  while (auto fr = src->next()) {
+    auto& v = scans.emplace_back();
+    for (const auto& p : fr->cloud.points) v.emplace_back(p.x, p.y);
+  }
+  const auto cfg = people::default_2d_legs();
+  people::StaticBackground bg;
+  people::PersonTracker tracker;
+  std::size_t k = 0;
+  double t = 0;
+  for (auto _ : state) {
+    const auto& s = scans[k++ % scans.size()];
+    const auto det = people::detect_legs_2d(s, cfg, &bg);
+    bg.update(s);
+    std::vector<Eigen::Vector2d> pos;
+    for (const auto& p : det.people) pos.push_back(p.position_m);
+    tracker.update(t += 0.1, pos);
+  }
+}
+BENCHMARK(BM_Legs2D_RealScan)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
