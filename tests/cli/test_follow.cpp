@@ -66,3 +66,46 @@ TEST(CliFollow, RejectsUnknownScenarioAndBadDistances) {
 
 }  // namespace
 }  // namespace fieldlidar
+
+namespace fieldlidar {
+namespace {
+
+TEST(CliLegs, DetectionsCsvAndTrainedConfigRoundTrip) {
+  const std::string bag = "legs_2d/positive_2_extracted.bag";
+  FIELDLIDAR_REQUIRE_DATA(bag);
+  const auto dir = test::temp_dir("cli_legs");
+  const auto yaml = (dir / "legs.yaml").string();
+  auto r =
+      test::run_cli("legs-train --positive " + test::data_file(bag).string() + " --out " + yaml);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(slurp(yaml).find("curve_max:"), std::string::npos);
+  const auto csv = (dir / "detections.csv").string();
+  r = test::run_cli("legs " + test::data_file(bag).string() +
+                    " --topic /training_scan --truth /leg_cluster_positions --config " + yaml +
+                    " --out " + csv);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("recall"), std::string::npos);
+  std::istringstream in(slurp(csv));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "stamp,kind,x,y,track_id");
+  std::size_t legs = 0, persons = 0;
+  while (std::getline(in, line)) {
+    const auto c1 = line.find(',');
+    const auto stamp = line.substr(0, c1);
+    ASSERT_NE(stamp.find('.'), std::string::npos);
+    EXPECT_GE(stamp.size() - stamp.find('.') - 1, 6u) << line;  // >= 6 decimals
+    const auto kind = line.substr(c1 + 1, line.find(',', c1 + 1) - c1 - 1);
+    legs += kind == "leg";
+    persons += kind == "person";
+    ASSERT_TRUE(kind == "leg" || kind == "person") << line;
+  }
+  EXPECT_GT(legs, 83u);  // 83 scans, about 1.4 annotated legs each
+  EXPECT_GT(persons, 0u);
+  r = test::run_cli("legs " + test::data_file(bag).string() + " --topic /training_scan --out " +
+                    csv);
+  EXPECT_EQ(r.exit_code, 1);  // exists, no --force
+}
+
+}  // namespace
+}  // namespace fieldlidar
