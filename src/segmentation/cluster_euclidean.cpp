@@ -16,6 +16,7 @@
 
 #include "cluster_common.hpp"
 #include "fieldlidar/segmentation/clustering.hpp"
+#include "polar_grid.hpp"
 
 namespace fieldlidar::segmentation {
 namespace {
@@ -34,7 +35,7 @@ std::vector<std::uint32_t> active_points(const PointCloud& cloud,
   std::vector<std::uint32_t> active;
   active.reserve(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i)
-    if ((skip.empty() || !skip[i]) && cloud.points[i].is_valid())
+    if ((skip.empty() || !skip[i]) && valid_point(cloud.points[i]))
       active.push_back(std::uint32_t(i));
   return active;
 }
@@ -143,7 +144,7 @@ std::vector<std::int32_t> components_grid(const ActiveCloud& data, double tolera
   };
   std::vector<std::int32_t> col_of(n);
   std::vector<std::int32_t> cix, ciy;
-  ColumnTable table(n / 4 + 16);
+  ColumnTable table(n);  // at most one column per point
   std::vector<std::uint32_t> col_count;
   std::vector<std::int32_t> iz_of(n);
   for (std::size_t i = 0; i < n; ++i) {

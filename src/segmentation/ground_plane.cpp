@@ -1,5 +1,7 @@
 #include "ground_plane.hpp"
 
+#include "polar_grid.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -20,23 +22,29 @@ NearGroundPlane fit_near_ground_plane(const PointCloud& cloud, double near_range
     float x = 0, y = 0, z = std::numeric_limits<float>::max();
   };
   std::vector<Low> lowest(std::size_t(kSectors) * rings);
+  const float inner2 = float(inner_m * inner_m), near2 = float(near_range_m * near_range_m);
+  const float sectors_per_rad = float(kSectors / (2 * std::numbers::pi));
   for (const Point& p : cloud.points) {
-    if (!p.is_valid() || p.z >= 0.f) continue;
-    const double r = std::hypot(double(p.x), double(p.y));
-    if (r < inner_m || r >= near_range_m) continue;
-    const int ring = std::min(rings - 1, int(r - inner_m));
-    const double az = std::atan2(double(p.y), double(p.x)) + std::numbers::pi;
-    const int sector = std::min(kSectors - 1, int(az / (2 * std::numbers::pi) * kSectors));
+    if (!(p.z < 0.f) || !valid_point(p)) continue;
+    const float r2 = p.x * p.x + p.y * p.y;
+    if (r2 < inner2 || r2 >= near2) continue;
+    const int ring = std::min(rings - 1, int(std::sqrt(r2) - float(inner_m)));
+    const float az = fast_atan2(p.y, p.x) + float(std::numbers::pi);
+    const int sector = std::clamp(int(az * sectors_per_rad), 0, kSectors - 1);
     Low& low = lowest[std::size_t(sector) * rings + ring];
     if (p.z < low.z) low = {p.x, p.y, p.z};
   }
-  std::vector<Low> cells;
+  std::vector<Eigen::Vector3f> cells;
   for (const Low& l : lowest)
-    if (l.z != std::numeric_limits<float>::max()) cells.push_back(l);
+    if (l.z != std::numeric_limits<float>::max()) cells.emplace_back(l.x, l.y, l.z);
+  return fit_plane_to_lows(cells, max_tilt_rad);
+}
+
+NearGroundPlane fit_plane_to_lows(std::span<const Eigen::Vector3f> cells, double max_tilt_rad) {
   NearGroundPlane plane;
   if (cells.size() < 8) return plane;
   std::vector<float> z(cells.size());
-  for (std::size_t k = 0; k < cells.size(); ++k) z[k] = cells[k].z;
+  for (std::size_t k = 0; k < cells.size(); ++k) z[k] = cells[k].z();
   std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
   plane.c = z[z.size() / 2];
   // Trim and refit with a shrinking band; the first pass starts from the level median plane.
@@ -45,11 +53,11 @@ NearGroundPlane fit_near_ground_plane(const PointCloud& cloud, double near_range
     Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
     Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
     std::size_t n = 0;
-    for (const Low& l : cells) {
-      if (std::abs(l.z - plane.height_at(l.x, l.y)) > band) continue;
-      const Eigen::Vector3d v(l.x, l.y, 1.0);
+    for (const Eigen::Vector3f& l : cells) {
+      if (std::abs(l.z() - plane.height_at(l.x(), l.y())) > band) continue;
+      const Eigen::Vector3d v(l.x(), l.y(), 1.0);
       A.noalias() += v * v.transpose();
-      rhs += v * double(l.z);
+      rhs += v * double(l.z());
       ++n;
     }
     if (n < 6) break;

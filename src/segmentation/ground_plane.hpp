@@ -1,6 +1,10 @@
 #pragma once
 // The ground plane near the sensor, from the lowest returns around it. Internal to segmentation/.
 
+#include <span>
+
+#include <Eigen/Core>
+
 #include "fieldlidar/core/point_cloud.hpp"
 
 namespace fieldlidar::segmentation {
@@ -19,5 +23,7 @@ struct NearGroundPlane {
 /// max_tilt_rad so that a wall cannot become the ground.
 NearGroundPlane fit_near_ground_plane(const PointCloud& cloud, double near_range_m,
                                       double max_tilt_rad = 0.35, double inner_m = 1.5);
+/// The same trimmed fit through given lowest returns (one per cell, x y z in m).
+NearGroundPlane fit_plane_to_lows(std::span<const Eigen::Vector3f> lows, double max_tilt_rad);
 
 }  // namespace fieldlidar::segmentation

@@ -42,23 +42,34 @@ void fit_cell(const PointCloud& cloud, std::span<const std::uint32_t> members, d
   for (std::uint32_t i : members) z_min = std::min(z_min, cloud.points[i].z);
   fit.z_min = z_min;
   const float band = z_min + float(seed_band_m);
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d sq = Eigen::Matrix3d::Zero();
+  // Moments about the lowest return (small numbers, no cancellation): 3 sums, 6 products.
+  const Point& o = cloud.points[members.front()];
+  double sx = 0, sy = 0, sz = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
   int n = 0;
   for (std::uint32_t i : members) {
     const Point& p = cloud.points[i];
     if (p.z > band) continue;
-    const Eigen::Vector3d v(p.x, p.y, p.z);
-    sum += v;
-    sq.noalias() += v * v.transpose();
+    const double x = p.x - o.x, y = p.y - o.y, z = p.z - o.z;
+    sx += x;
+    sy += y;
+    sz += z;
+    xx += x * x;
+    xy += x * y;
+    xz += x * z;
+    yy += y * y;
+    yz += y * z;
+    zz += z * z;
     ++n;
   }
-  const Eigen::Vector3d mean = sum / n;
+  const Eigen::Vector3d local_mean = Eigen::Vector3d(sx, sy, sz) / n;
+  const Eigen::Vector3d mean = local_mean + Eigen::Vector3d(o.x, o.y, o.z);
   fit.normal = {0.f, 0.f, 1.f};
   fit.flatness = 0.f;
   fit.upright = true;
   if (n >= 4) {
-    const Eigen::Matrix3d cov = sq / n - mean * mean.transpose();
+    Eigen::Matrix3d cov;
+    cov << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+    cov = cov / n - local_mean * local_mean.transpose();
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
     es.computeDirect(cov);
     const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(0.0);
@@ -86,13 +97,24 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   const double max_slope_rad = config.max_slope_deg * std::numbers::pi / 180.0;
   // The ground near the sensor as a tilted plane: off-road the vehicle pitches and rolls, and the
   // mounting height is rarely known to a few centimetres.
-  NearGroundPlane prior = fit_near_ground_plane(cloud, config.near_range_m, max_slope_rad);
-  if (!prior.found) prior.c = -(sensor.mounting_height_m > 0 ? sensor.mounting_height_m : 1.0);
-  result.sensor_height_m = -prior.c / std::sqrt(1.0 + prior.a * prior.a + prior.b * prior.b);
-
   const PolarGrid grid(config.min_cell_m, config.cell_growth, config.max_range_m,
                        config.sector_deg);
   const PolarCells cells = grid.assign(cloud);
+
+  // The lowest return of each cell between 1.5 m and near_range_m (below the sensor) feeds the
+  // prior plane.
+  std::vector<Eigen::Vector3f> lows;
+  for (int s = 0; s < grid.sectors(); ++s)
+    for (int b = 0; b < grid.bins() && grid.bin_centre_m(b) < config.near_range_m; ++b) {
+      if (grid.bin_centre_m(b) < 1.5f) continue;
+      const Point* low = nullptr;
+      for (std::uint32_t i : cells.members(grid.cell(b, s)))
+        if (!low || cloud.points[i].z < low->z) low = &cloud.points[i];
+      if (low && low->z < 0.f) lows.emplace_back(low->x, low->y, low->z);
+    }
+  NearGroundPlane prior = fit_plane_to_lows(lows, max_slope_rad);
+  if (!prior.found) prior.c = -(sensor.mounting_height_m > 0 ? sensor.mounting_height_m : 1.0);
+  result.sensor_height_m = -prior.c / std::sqrt(1.0 + prior.a * prior.a + prior.b * prior.b);
 
   const float max_cos = float(std::cos(max_slope_rad));
   const double tan_slope = std::tan(max_slope_rad);
@@ -170,9 +192,23 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
 
   const float above = float(config.ground_above_m), below = float(config.ground_below_m);
   const float clutter_top = float(config.clutter_height_m);
+  const float cluttered_above = float(config.cluttered_above_m);
   for (std::size_t c = 0; c < fits.size(); ++c) {
     const CellFit& fit = fits[c];
     if (fit.state == CellState::kEmpty) continue;
+    if (config.max_roughness_m > 0 && fit.state == CellState::kGround) {
+      double sq = 0;
+      std::size_t n = 0;
+      for (std::uint32_t i : cells.members(c)) {
+        const float h = fit.height_above(cloud.points[i]);
+        if (std::abs(h) < 0.3f) {
+          sq += double(h) * h;
+          ++n;
+        }
+      }
+      if (n >= 3 && std::sqrt(sq / double(n)) > config.max_roughness_m) continue;
+    }
+    float cell_above = above;
     if (config.max_clutter_ratio > 0 && fit.state == CellState::kGround) {
       std::size_t low = 0, clutter = 0;
       for (std::uint32_t i : cells.members(c)) {
@@ -182,12 +218,12 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
         else if (h <= clutter_top)
           ++clutter;
       }
-      if (double(clutter) > config.max_clutter_ratio * double(low)) continue;
+      if (double(clutter) > config.max_clutter_ratio * double(low)) cell_above = cluttered_above;
     }
     for (std::uint32_t i : cells.members(c)) {
       const Point& p = cloud.points[i];
       const float h = fit.state == CellState::kGround ? fit.height_above(p) : p.z - fit.predicted;
-      if (h <= above && h >= -below) {
+      if (h <= cell_above && h >= -below) {
         result.is_ground[i] = 1;
         ++result.ground_count;
       }

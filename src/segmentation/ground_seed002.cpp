@@ -1,6 +1,7 @@
 // seed 002, step b: ground from the downward beams, H - h <= 0.05 m.
 
 #include "fieldlidar/segmentation/ground.hpp"
+#include "polar_grid.hpp"
 
 namespace fieldlidar::segmentation {
 
@@ -17,7 +18,7 @@ GroundResult ground_seed002(const PointCloud& cloud, const SensorModel& sensor,
     const Point& p = cloud.points[i];
     // A downward beam hits below the sensor: z < 0 in the lidar frame. The drop h from the sensor
     // origin to the point is the vertical component of that vector, h = -z.
-    if (!p.is_valid() || p.z >= 0.f) continue;
+    if (!valid_point(p) || p.z >= 0.f) continue;
     const double h = -double(p.z);
     if (H - h <= config.tolerance_m) {
       result.is_ground[i] = 1;

@@ -2,6 +2,7 @@
 // A polar grid around the sensor in the x-y plane: radial bins that lengthen with range (the
 // returns thin out) and equal azimuth sectors. Internal to segmentation/.
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -9,6 +10,27 @@
 #include "fieldlidar/core/point_cloud.hpp"
 
 namespace fieldlidar::segmentation {
+
+/// Point::is_valid, inlined for the per-point loops: finite and not the all-zero no-return.
+inline bool valid_point(const Point& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
+         (p.x != 0.f || p.y != 0.f || p.z != 0.f);
+}
+
+/// atan2 accurate to ~1e-5 rad, several times faster than std::atan2; result in (-pi, pi].
+inline float fast_atan2(float y, float x) {
+  // Octant reduction + odd minimax polynomial on [0, 1].
+  const float ax = std::abs(x), ay = std::abs(y);
+  const float mx = ax > ay ? ax : ay, mn = ax > ay ? ay : ax;
+  if (mx == 0.f) return 0.f;
+  const float a = mn / mx;
+  const float s = a * a;
+  float r = ((-0.0464964749f * s + 0.15931422f) * s - 0.327622764f) * s * a + a;
+  if (ay > ax) r = 1.57079637f - r;
+  if (x < 0.f) r = 3.14159274f - r;
+  if (y < 0.f) r = -r;
+  return r;
+}
 
 /// Points sorted by cell (counting sort): members(c) are the indices of cell c.
 struct PolarCells {
@@ -31,9 +53,20 @@ class PolarGrid {
   float bin_centre_m(int bin) const { return 0.5f * (edges_[bin] + edges_[bin + 1]); }
   float sector_centre_rad(int sector) const;
   /// Bin of horizontal range r_m, -1 beyond the last edge.
-  int bin_of(float r_m) const;
+  int bin_of(float r_m) const {
+    if (!(r_m < edges_.back())) return -1;
+    int b = lut_[std::size_t(r_m * lut_scale_)];
+    // The table has a 0.1 m step; step to the exact bin.
+    while (b > 0 && r_m < edges_[b]) --b;
+    while (b + 1 < bins() && r_m >= edges_[b + 1]) ++b;
+    return b;
+  }
   /// Sector of a direction (x, y) (need not be normalised).
-  int sector_of(float x, float y) const;
+  int sector_of(float x, float y) const {
+    const float a = fast_atan2(y, x) + 3.14159265f;
+    const int s = int(a * (float(sectors_) / 6.28318531f));
+    return s < 0 ? 0 : (s >= sectors_ ? sectors_ - 1 : s);
+  }
   /// Valid points within range, sorted by cell.
   PolarCells assign(const PointCloud& cloud) const;
 
@@ -43,8 +76,5 @@ class PolarGrid {
   float lut_scale_ = 10.f;          ///< 1 / lut step (m^-1)
   int sectors_ = 128;
 };
-
-/// atan2 accurate to ~1e-5 rad, several times faster than std::atan2; result in (-pi, pi].
-float fast_atan2(float y, float x);
 
 }  // namespace fieldlidar::segmentation

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fieldlidar/core/error.hpp"
+#include "polar_grid.hpp"
 
 namespace fieldlidar::segmentation {
 
@@ -51,9 +52,10 @@ RangeImage RangeImage::build(const PointCloud& cloud, const SensorModel& sensor,
 
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Point& p = cloud.points[i];
-    if (!p.is_valid()) continue;
-    const double xy = std::hypot(double(p.x), double(p.y));
-    const double range = std::hypot(xy, double(p.z));
+    if (!valid_point(p)) continue;
+    const float xy2 = p.x * p.x + p.y * p.y;
+    const double xy = std::sqrt(double(xy2));
+    const double range = std::sqrt(double(xy2) + double(p.z) * p.z);
     if (range <= 0.0) continue;
     int row = -1;
     switch (source) {
@@ -82,7 +84,7 @@ RangeImage RangeImage::build(const PointCloud& cloud, const SensorModel& sensor,
         row = std::min<int>(estimated[i], img.rows - 1);
         break;
     }
-    const int col = azimuth_column(std::atan2(double(p.y), double(p.x)), img.cols);
+    const int col = azimuth_column(std::atan2(p.y, p.x), img.cols);
     const std::int32_t cell = row * img.cols + col;
     img.point_cell[i] = cell;
     auto& kept = img.cell_point[cell];

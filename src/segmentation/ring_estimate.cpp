@@ -3,11 +3,13 @@
 #include <numbers>
 
 #include "fieldlidar/segmentation/range_image.hpp"
+#include "polar_grid.hpp"
 
 namespace fieldlidar::segmentation {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kMaxBackStepRad = 0.2;
 
 double wrap_pi(double a) {
   while (a > std::numbers::pi) a -= kTwoPi;
@@ -56,8 +58,8 @@ bool rings_from_scan_order(const PointCloud& cloud, std::size_t count,
   bool have_prev = false;
   for (std::size_t i = 0; i < cloud.size() && std::labs(votes) < 2000; ++i) {
     const Point& p = cloud.points[i];
-    if (!p.is_valid()) continue;
-    const double az = std::atan2(double(p.y), double(p.x));
+    if (!valid_point(p)) continue;
+    const double az = fast_atan2(p.y, p.x);
     if (have_prev) {
       const double d = wrap_pi(az - prev);
       if (std::abs(d) < 0.1) votes += d > 0 ? 1 : -1;
@@ -67,22 +69,23 @@ bool rings_from_scan_order(const PointCloud& cloud, std::size_t count,
   }
   const double dir = votes >= 0 ? 1.0 : -1.0;
   // A ring ends when the azimuth, measured in the scan direction from where the sweep began (the
-  // first return), wraps from nearly a full turn back to nearly zero: every ring of a spinning
-  // sensor starts at the same azimuth.
+  // first return), falls back: every ring of a spinning sensor starts at the same azimuth.
   std::size_t ring = 0;
   bool started = false;
   double start = 0, last = 0;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Point& p = cloud.points[i];
-    if (!p.is_valid()) continue;
-    const double az = std::atan2(double(p.y), double(p.x));
+    if (!valid_point(p)) continue;
+    const double az = fast_atan2(p.y, p.x);
     if (!started) {
       start = az - dir * 1e-3;  // tolerate jitter of the next rings' first returns
       started = true;
     }
-    double a = std::fmod(dir * (az - start), kTwoPi);
+    double a = dir * (az - start);  // in (-2 pi, 2 pi)
     if (a < 0) a += kTwoPi;
-    if (a < last - std::numbers::pi && ++ring >= count) return false;
+    // Within a ring the azimuth only moves forward (up to jitter of a few milliradians); a step
+    // back marks the next ring even when a ring saw returns over part of the turn only.
+    if (a < last - kMaxBackStepRad && ++ring >= count) return false;
     last = a;
     rings[i] = static_cast<std::uint16_t>(ring);
   }
@@ -96,7 +99,7 @@ bool rings_from_index(const PointCloud& cloud, std::size_t count, bool column_ma
   if (count == 0 || cloud.size() % count != 0 || cloud.size() < count) return false;
   const std::size_t width = cloud.size() / count;
   for (std::size_t i = 0; i < cloud.size(); ++i)
-    if (cloud.points[i].is_valid())
+    if (valid_point(cloud.points[i]))
       rings[i] = static_cast<std::uint16_t>(column_major ? i % count : i / width);
   return orient_rings(cloud, rings, count);
 }
@@ -109,14 +112,15 @@ RingEstimate estimate_rings(const PointCloud& cloud, const SensorModel& sensor) 
   const std::size_t count = sensor.rings();
   if (cloud.fields.ring) {
     for (std::size_t i = 0; i < cloud.size(); ++i)
-      if (cloud.points[i].is_valid()) out.rings[i] = cloud.points[i].ring;
+      if (valid_point(cloud.points[i])) out.rings[i] = cloud.points[i].ring;
     out.method = RingEstimate::Method::kRingField;
     return out;
   }
   if (count > 1 && sensor.kind == SensorModel::Kind::kSpinning) {
     if (cloud.is_organized() && cloud.height == count) {
       for (std::size_t i = 0; i < cloud.size(); ++i)
-        if (cloud.points[i].is_valid()) out.rings[i] = static_cast<std::uint16_t>(i / cloud.width);
+        if (valid_point(cloud.points[i]))
+          out.rings[i] = static_cast<std::uint16_t>(i / cloud.width);
       if (orient_rings(cloud, out.rings, count)) {
         out.method = RingEstimate::Method::kIndexRows;
         return out;
@@ -141,7 +145,7 @@ RingEstimate estimate_rings(const PointCloud& cloud, const SensorModel& sensor) 
   }
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Point& p = cloud.points[i];
-    if (p.is_valid())
+    if (valid_point(p))
       out.rings[i] = static_cast<std::uint16_t>(sensor.nearest_ring(elevation_of(p)));
   }
   out.method = RingEstimate::Method::kNearestBeam;

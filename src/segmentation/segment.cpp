@@ -4,6 +4,7 @@
 #include <string>
 
 #include "fieldlidar/core/error.hpp"
+#include "polar_grid.hpp"
 
 namespace fieldlidar::segmentation {
 
@@ -30,7 +31,7 @@ SegmentResult segment(const PointCloud& cloud, const SensorModel& sensor,
 std::vector<std::uint32_t> segment_labels(const PointCloud& cloud, const SegmentResult& result) {
   std::vector<std::uint32_t> labels(cloud.size(), kLabelInvalid);
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    if (!cloud.points[i].is_valid()) continue;
+    if (!valid_point(cloud.points[i])) continue;
     if (i < result.ground.is_ground.size() && result.ground.is_ground[i])
       labels[i] = kLabelGround;
     else if (i < result.clusters.cluster_of_point.size() &&
@@ -57,7 +58,7 @@ GroundScore score_ground(const PointCloud& cloud, std::span<const std::uint8_t> 
   };
   GroundScore s;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    if (!cloud.points[i].is_valid()) continue;
+    if (!valid_point(cloud.points[i])) continue;
     const auto cls = std::uint16_t(truth_labels[i] & 0xFFFFu);
     if (in(ignored_classes, cls)) continue;
     const bool truth = in(ground_classes, cls);

@@ -36,19 +36,24 @@ struct Seed002GroundConfig {
 struct RobustGroundConfig {
   double max_range_m = 120.0;    ///< points farther away are left non-ground
   double sector_deg = 2.8125;    ///< azimuth width of a polar cell (128 sectors)
-  double min_cell_m = 0.5;       ///< radial length of the innermost cells
+  double min_cell_m = 1.0;       ///< radial length of the innermost cells
   double cell_growth = 0.06;     ///< radial length = max(min_cell_m, cell_growth * range)
-  double seed_band_m = 0.25;     ///< points within this of a cell's low point seed the fit
+  double seed_band_m = 0.10;     ///< points within this of a cell's low point seed the fit
   double max_slope_deg = 22.0;   ///< steepest ground plane accepted (uprightness)
-  double max_step_m = 0.30;      ///< height jump allowed between neighbouring ground cells
-  double max_bend_deg = 11.0;    ///< change of slope allowed from one ground cell to the next
+  double max_step_m = 0.12;      ///< height jump allowed between neighbouring ground cells
+  double max_bend_deg = 6.0;     ///< change of slope allowed from one ground cell to the next
   double max_flatness_m = 0.08;  ///< sqrt of the smallest eigenvalue of a ground fit
-  double ground_above_m = 0.18;  ///< points up to this above the local plane are ground
+  double ground_above_m = 0.15;  ///< points up to this above the local plane are ground
   double ground_below_m = 1.0;   ///< and down to this below it
-  double clutter_height_m =
-      1.5;  ///< returns between ground_above_m and this over a cell's plane are clutter
-  double max_clutter_ratio =
-      0.0;  ///< a cell with more clutter than this times its ground returns is not ground (0 = off)
+  /// Returns between ground_above_m and this height over a cell's plane are clutter (m).
+  double clutter_height_m = 1.5;
+  /// A cell with more clutter than this times its ground returns is cluttered (0 = off): the
+  /// base of a bush or hedge, where only returns very close to the plane are ground.
+  double max_clutter_ratio = 0.5;
+  double cluttered_above_m = 0.03;  ///< ground_above_m in a cluttered cell (< 0: none is ground)
+  /// RMS height (m) of the returns within 0.3 m of a cell's plane above which the cell is
+  /// vegetation rather than ground (0 = off).
+  double max_roughness_m = 0.0;
   double near_range_m = 12.0;  ///< sensor height estimated from cells nearer than this
 };
 

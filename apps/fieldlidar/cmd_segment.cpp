@@ -1,0 +1,198 @@
+// fieldlidar segment INPUT: ground + clusters of one scan, as a label file, a labelled cloud and
+// pictures (seeds 000 and 002, steps "remove the ground, cluster the rest").
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/io/cloud_file.hpp"
+#include "fieldlidar/io/label_file.hpp"
+#include "fieldlidar/segmentation/segment.hpp"
+#include "support/canvas.hpp"
+
+namespace fieldlidar::app {
+
+namespace {
+/// The named preset, or one guessed from the number of rings (no ring field: HDL-64E, KITTI).
+inline SensorModel sensor_for(const PointCloud& cloud, const std::string& input,
+                              const std::string& preset) {
+  if (!preset.empty()) {
+    auto s = SensorModel::preset(preset);
+    if (!s) throw Error("--sensor '" + preset + "' is not a known sensor preset");
+    return *s;
+  }
+  if (cloud.fields.ring) {
+    switch (cloud.ring_count()) {
+      case 16:
+        return SensorModel::vlp16();
+      case 32:
+        return SensorModel::hdl32e();
+      case 64:
+        return SensorModel::os1_64();
+      case 128:
+        return SensorModel::os1_128();
+      default:
+        break;
+    }
+    throw Error(input + ": " + std::to_string(cloud.ring_count()) +
+                " rings match no preset; pass --sensor");
+  }
+  return SensorModel::hdl64e();
+}
+
+inline segmentation::GroundMethod ground_method(const std::string& name) {
+  if (name == "robust") return segmentation::GroundMethod::kRobust;
+  if (name == "seed000") return segmentation::GroundMethod::kSeed000;
+  if (name == "seed002") return segmentation::GroundMethod::kSeed002;
+  throw Error("--method '" + name + "' is not robust, seed000 or seed002");
+}
+
+struct SegmentOptions {
+  std::string input, method = "robust", sensor, clusters = "euclidean";
+  std::string labels_out, cloud_out, png_out;
+  double tolerance_m = 0.5;
+  std::size_t min_points = 21;
+  bool force = false, json = false;
+};
+
+Rgb label_colour(std::uint32_t label) {
+  using namespace segmentation;
+  if (label == kLabelGround) return {0.55, 0.75, 0.45};
+  if (label == kLabelUnclustered) return {0.6, 0.6, 0.6};
+  if (label >= kLabelClusterBase) return palette(label - kLabelClusterBase + 1);
+  return {1, 1, 1};
+}
+
+void draw_pictures(const std::string& path, const PointCloud& cloud, const SensorModel& sensor,
+                   const std::vector<std::uint32_t>& labels, std::size_t clusters, bool force) {
+  // Top-down view, +-40 m around the sensor at most.
+  Bounds3 b = compute_bounds(cloud);
+  if (b.empty()) throw Error("segment: " + path + ": the cloud has no valid point to draw");
+  const Eigen::Vector2d lo(std::max(b.min.x(), -40.0), std::max(b.min.y(), -40.0));
+  const Eigen::Vector2d hi(std::min(b.max.x(), 40.0), std::min(b.max.y(), 40.0));
+  TopDownCanvas canvas(lo, hi, 1400);
+  for (int pass = 0; pass < 2; ++pass)  // ground first, objects on top
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const bool ground = labels[i] == segmentation::kLabelGround;
+      if (labels[i] == segmentation::kLabelInvalid || ground != (pass == 0)) continue;
+      const auto& p = cloud.points[i];
+      canvas.dot({p.x, p.y}, label_colour(labels[i]), ground ? 0.8 : 1.2);
+    }
+  canvas.title(fmt::format("{}: ground and {} clusters", path, clusters));
+  canvas.legend({{"ground", label_colour(segmentation::kLabelGround)},
+                 {"not in a cluster", label_colour(segmentation::kLabelUnclustered)},
+                 {"clusters", palette(1)}});
+  canvas.save_png(path, force);
+  // Range image view next to it: OUT.png -> OUT.range.png, rows = rings (top = highest beam).
+  const segmentation::RangeImage image = segmentation::RangeImage::build(cloud, sensor);
+  RasterImage raster(image.cols, image.rows);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const std::int32_t cell = image.point_cell[i];
+    if (cell < 0 || image.cell_point[cell] != std::int32_t(i)) continue;
+    raster.set(image.col_of_cell(cell), image.rows - 1 - image.row_of_cell(cell),
+               label_colour(labels[i]));
+  }
+  std::filesystem::path range_path(path);
+  range_path.replace_extension(".range.png");
+  const int sy = std::max(1, 256 / std::max(1, image.rows));
+  raster.save_png(range_path, force, 1, sy);
+}
+
+void run(const SegmentOptions& o) {
+  const PointCloud cloud = io::read_cloud(o.input);
+  const SensorModel sensor = sensor_for(cloud, o.input, o.sensor);
+  // Refuse early, before the work, when an output exists and --force is absent.
+  if (!o.labels_out.empty()) io::check_writable(o.labels_out, o.force);
+  if (!o.cloud_out.empty()) io::check_writable(o.cloud_out, o.force);
+  if (!o.png_out.empty()) io::check_writable(o.png_out, o.force);
+
+  segmentation::SegmentConfig cfg;
+  cfg.ground.method = ground_method(o.method);
+  if (o.clusters == "euclidean")
+    cfg.cluster_method = segmentation::ClusterMethod::kEuclidean;
+  else if (o.clusters == "range-image")
+    cfg.cluster_method = segmentation::ClusterMethod::kRangeImage;
+  else
+    throw Error("segment: --clusters '" + o.clusters + "' is not euclidean or range-image");
+  cfg.euclidean.tolerance_m = o.tolerance_m;
+  cfg.euclidean.min_points = o.min_points;
+  const auto t0 = std::chrono::steady_clock::now();
+  const segmentation::SegmentResult r = segmentation::segment(cloud, sensor, cfg);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const std::vector<std::uint32_t> labels = segmentation::segment_labels(cloud, r);
+
+  io::WriteOptions w;
+  w.overwrite = o.force;
+  if (!o.labels_out.empty()) io::write_labels(o.labels_out, labels, w);
+  if (!o.cloud_out.empty()) {
+    PointCloud out = cloud;
+    out.labels = labels;
+    out.fields.label = true;
+    io::write_cloud(o.cloud_out, out, w);
+  }
+  if (!o.png_out.empty())
+    draw_pictures(o.png_out, cloud, sensor, labels, r.clusters.clusters.size(), o.force);
+
+  nlohmann::json j;
+  j["file"] = o.input;
+  j["sensor"] = sensor.name;
+  j["method"] = o.method;
+  j["points"] = cloud.size();
+  j["valid_points"] = cloud.valid_count();
+  j["ground_points"] = r.ground.ground_count;
+  j["sensor_height_m"] = r.ground.sensor_height_m;
+  j["clusters"] = r.clusters.clusters.size();
+  j["time_ms"] = ms;
+  if (o.json) {
+    std::printf("%s\n", j.dump(2).c_str());
+    return;
+  }
+  fmt::print("file:          {}\n", o.input);
+  fmt::print("sensor:        {} (height above ground estimated {:.2f} m)\n", sensor.name,
+             r.ground.sensor_height_m);
+  fmt::print("points:        {} ({} valid)\n", cloud.size(), cloud.valid_count());
+  fmt::print("ground:        {} points ({})\n", r.ground.ground_count, o.method);
+  fmt::print("clusters:      {} ({}, {:.2f} m, >= {} points)\n", r.clusters.clusters.size(),
+             o.clusters, o.tolerance_m, o.min_points);
+  fmt::print("time:          {:.1f} ms\n", ms);
+}
+
+}  // namespace
+
+void add_segment_command(CLI::App& app) {
+  auto opts = std::make_shared<SegmentOptions>();
+  auto* cmd = app.add_subcommand(
+      "segment", "Split one scan into ground and object clusters (label file, cloud, PNG)");
+  cmd->add_option("INPUT", opts->input, "Input scan (.bin KITTI, .pcd, .ply, .las)")->required();
+  cmd->add_option("--method", opts->method, "Ground method: robust, seed000, seed002")
+      ->capture_default_str();
+  cmd->add_option("--sensor", opts->sensor,
+                  "Sensor preset (vlp16, hdl32e, hdl64e, os1-64, ...); default from the rings");
+  cmd->add_option("--clusters", opts->clusters, "Clustering: euclidean or range-image")
+      ->capture_default_str();
+  cmd->add_option("--tolerance", opts->tolerance_m, "Euclidean cluster distance (m)")
+      ->capture_default_str();
+  cmd->add_option("--min-points", opts->min_points,
+                  "Smallest cluster kept (seed 002 drops clusters of <= 20 points)")
+      ->capture_default_str();
+  cmd->add_option("--labels", opts->labels_out,
+                  "Write a uint32 per point: 0 invalid, 1 ground, 2 other, 100+k cluster k");
+  cmd->add_option("--out", opts->cloud_out, "Write the cloud with those labels (.pcd, .ply, ...)");
+  cmd->add_option("--png", opts->png_out,
+                  "Write a top-down PNG and, beside it as NAME.range.png, the range image");
+  cmd->add_flag("-f,--force", opts->force, "Replace existing output files");
+  cmd->add_flag("--json", opts->json, "Print machine-readable JSON");
+  cmd->callback([opts] { run(*opts); });
+}
+
+}  // namespace fieldlidar::app

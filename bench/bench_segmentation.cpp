@@ -1,0 +1,209 @@
+// Ground segmentation and clustering timings on real frames (one core), with PCL's
+// EuclideanClusterExtraction as the side-by-side baseline.
+//
+// Patchwork++ (its defaults, one core) for reference: ~14 ms on rellis3d/000001.bin, ~27 ms on
+// kitti00/000000.bin, ~38 ms on pcd_os128/000000.pcd.
+
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "fieldlidar/io/cloud_file.hpp"
+#include "fieldlidar/segmentation/segment.hpp"
+
+#if __has_include("fieldlidar/sim/scenes.hpp")
+#include "fieldlidar/sim/lidar_simulator.hpp"
+#include "fieldlidar/sim/motion.hpp"
+#include "fieldlidar/sim/scenes.hpp"
+#define FIELDLIDAR_BENCH_WITH_SIM 1
+#endif
+
+#ifdef FIELDLIDAR_BENCH_WITH_PCL
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/segmentation/extract_clusters.h>
+#endif
+
+namespace fieldlidar::segmentation {
+namespace {
+
+struct Frame {
+  PointCloud cloud;
+  SensorModel sensor;
+  bool ok = false;
+};
+
+const Frame& frame(const std::string& name) {
+  static std::map<std::string, Frame> cache;
+  auto it = cache.find(name);
+  if (it != cache.end()) return it->second;
+  Frame f;
+  const std::filesystem::path dir = FIELDLIDAR_DEFAULT_DATA_DIR;
+  if (name == "vlp16-sim") {
+#ifdef FIELDLIDAR_BENCH_WITH_SIM
+    const sim::Scene scene = sim::make_scene(sim::SceneKind::kLawn, 7);
+    const auto motion = sim::drive_scene_route(scene, 2.0);
+    f.sensor = SensorModel::vlp16();
+    f.cloud = sim::LidarSimulator(scene, f.sensor).scan(1.0, motion.lidar_pose_fn()).cloud;
+    f.ok = true;
+#endif
+  } else {
+    const std::map<std::string, std::pair<std::string, std::string>> files = {
+        {"rellis", {"rellis3d/000001.bin", "os1-64"}},
+        {"kitti", {"kitti00/000000.bin", "hdl64e"}},
+        {"os128", {"pcd_os128/000000.pcd", "os1-128"}}};
+    const auto& [file, preset] = files.at(name);
+    if (std::filesystem::exists(dir / file)) {
+      f.cloud = io::read_cloud(dir / file);
+      f.sensor = *SensorModel::preset(preset);
+      if (name == "rellis") f.sensor.columns = 2048;
+      f.ok = true;
+    }
+  }
+  return cache.emplace(name, std::move(f)).first->second;
+}
+
+#define REQUIRE_FRAME(f, name)                            \
+  const Frame& f = frame(name);                           \
+  if (!f.ok) {                                            \
+    state.SkipWithError("data for '" name "' is absent"); \
+    return;                                               \
+  }
+
+void BM_Ground(benchmark::State& state, const char* name, GroundMethod method) {
+  const Frame& f = frame(name);
+  if (!f.ok) {
+    state.SkipWithError("data is absent");
+    return;
+  }
+  GroundConfig cfg;
+  cfg.method = method;
+  std::size_t ground = 0;
+  for (auto _ : state) {
+    GroundResult r = segment_ground(f.cloud, f.sensor, cfg);
+    ground = r.ground_count;
+    benchmark::DoNotOptimize(r.is_ground.data());
+  }
+  state.counters["points"] = double(f.cloud.size());
+  state.counters["ground"] = double(ground);
+}
+BENCHMARK_CAPTURE(BM_Ground, rellis_robust, "rellis", GroundMethod::kRobust)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ground, kitti_robust, "kitti", GroundMethod::kRobust)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ground, os128_robust, "os128", GroundMethod::kRobust)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ground, rellis_seed000, "rellis", GroundMethod::kSeed000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ground, kitti_seed000, "kitti", GroundMethod::kSeed000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ground, rellis_seed002, "rellis", GroundMethod::kSeed002)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ground, kitti_seed002, "kitti", GroundMethod::kSeed002)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_RangeImage(benchmark::State& state) {
+  REQUIRE_FRAME(f, "kitti");
+  for (auto _ : state) {
+    RangeImage img = RangeImage::build(f.cloud, f.sensor);
+    benchmark::DoNotOptimize(img.cell_point.data());
+  }
+}
+BENCHMARK(BM_RangeImage)->Unit(benchmark::kMillisecond);
+
+// Non-ground points of KITTI 000000 from the robust ground.
+const std::vector<std::uint8_t>& kitti_ground() {
+  static const std::vector<std::uint8_t> g =
+      ground_robust(frame("kitti").cloud, frame("kitti").sensor).is_ground;
+  return g;
+}
+
+void BM_Euclidean(benchmark::State& state, EuclideanClusterConfig::Search search) {
+  REQUIRE_FRAME(f, "kitti");
+  const auto& skip = kitti_ground();
+  EuclideanClusterConfig cfg;  // 0.5 m
+  cfg.min_points = 20;         // as the PCL baseline below
+  cfg.search = search;
+  std::size_t clusters = 0;
+  for (auto _ : state) {
+    ClusterResult r = cluster_euclidean(f.cloud, skip, cfg);
+    clusters = r.clusters.size();
+    benchmark::DoNotOptimize(r.cluster_of_point.data());
+  }
+  std::size_t n = 0;
+  for (auto s : skip) n += !s;
+  state.counters["points"] = double(n);
+  state.counters["clusters"] = double(clusters);
+}
+BENCHMARK_CAPTURE(BM_Euclidean, kitti_grid, EuclideanClusterConfig::Search::kGrid)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Euclidean, kitti_kdtree, EuclideanClusterConfig::Search::kKdTree)
+    ->Unit(benchmark::kMillisecond);
+
+#ifdef FIELDLIDAR_BENCH_WITH_PCL
+void BM_PclEuclidean(benchmark::State& state) {
+  REQUIRE_FRAME(f, "kitti");
+  const auto& skip = kitti_ground();
+  pcl::PointCloud<pcl::PointXYZ>::Ptr sub(new pcl::PointCloud<pcl::PointXYZ>);
+  for (std::size_t i = 0; i < f.cloud.size(); ++i)
+    if (!skip[i] && f.cloud.points[i].is_valid())
+      sub->push_back({f.cloud.points[i].x, f.cloud.points[i].y, f.cloud.points[i].z});
+  std::size_t clusters = 0;
+  for (auto _ : state) {
+    // Tree build included, as in cluster_euclidean.
+    pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
+    tree->setInputCloud(sub);
+    pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+    ec.setClusterTolerance(0.5);
+    ec.setMinClusterSize(20);
+    ec.setMaxClusterSize(std::numeric_limits<int>::max());
+    ec.setSearchMethod(tree);
+    ec.setInputCloud(sub);
+    std::vector<pcl::PointIndices> found;
+    ec.extract(found);
+    clusters = found.size();
+  }
+  state.counters["points"] = double(sub->size());
+  state.counters["clusters"] = double(clusters);
+}
+BENCHMARK(BM_PclEuclidean)->Unit(benchmark::kMillisecond)->Iterations(3);
+#endif
+
+void BM_RangeImageClusters(benchmark::State& state) {
+  REQUIRE_FRAME(f, "kitti");
+  const auto& skip = kitti_ground();
+  const RangeImage img = RangeImage::build(f.cloud, f.sensor);
+  std::size_t clusters = 0;
+  for (auto _ : state) {
+    ClusterResult r = cluster_range_image(f.cloud, img, skip);
+    clusters = r.clusters.size();
+    benchmark::DoNotOptimize(r.cluster_of_point.data());
+  }
+  state.counters["clusters"] = double(clusters);
+}
+BENCHMARK(BM_RangeImageClusters)->Unit(benchmark::kMillisecond);
+
+// Ground + clusters of a VLP-16 sweep (simulated lawn frame).
+void BM_Vlp16Segment(benchmark::State& state, ClusterMethod method) {
+  REQUIRE_FRAME(f, "vlp16-sim");
+  SegmentConfig cfg;
+  cfg.cluster_method = method;
+  std::size_t clusters = 0;
+  for (auto _ : state) {
+    SegmentResult r = segment(f.cloud, f.sensor, cfg);
+    clusters = r.clusters.clusters.size();
+    benchmark::DoNotOptimize(r.ground.is_ground.data());
+  }
+  state.counters["points"] = double(f.cloud.size());
+  state.counters["clusters"] = double(clusters);
+}
+BENCHMARK_CAPTURE(BM_Vlp16Segment, euclidean, ClusterMethod::kEuclidean)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Vlp16Segment, range_image, ClusterMethod::kRangeImage)
+    ->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace fieldlidar::segmentation

@@ -1,0 +1,97 @@
+// End-to-end: fieldlidar segment and eval-ground on real frames.
+
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_cli.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar::test {
+namespace {
+
+std::string q(const std::filesystem::path& p) {
+  std::ostringstream s;
+  s << '\'' << p.string() << '\'';
+  return s.str();
+}
+
+// Joins the words with spaces (a stream: GCC 12's -Wrestrict misfires on chains of operator+).
+std::string args(std::initializer_list<std::string> words) {
+  std::ostringstream s;
+  for (const auto& w : words) s << w << ' ';
+  return s.str();
+}
+
+TEST(CliSegment, WritesLabelsCloudAndPicturesAndRefusesToOverwrite) {
+  FIELDLIDAR_REQUIRE_DATA("kitti00/000000.bin");
+  const auto dir = temp_dir("cli_segment");
+  const auto in = data_file("kitti00/000000.bin");
+  const auto labels = dir / "out.label", png = dir / "out.png", pcd = dir / "out.pcd";
+  const auto r = run_cli(
+      args({"segment", q(in), "--labels", q(labels), "--png", q(png), "--out", q(pcd), "--json"}));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  EXPECT_EQ(j["points"].get<long>(), 124668);
+  EXPECT_GT(j["clusters"].get<long>(), 50);
+  EXPECT_NEAR(j["sensor_height_m"].get<double>(), 1.73, 0.1);  // KITTI's HDL-64E mount
+  ASSERT_EQ(std::filesystem::file_size(labels), 124668u * 4);
+  std::ifstream f(labels, std::ios::binary);
+  std::vector<std::uint32_t> l(124668);
+  f.read(reinterpret_cast<char*>(l.data()), std::streamsize(l.size() * 4));
+  std::size_t ground = 0, clustered = 0, other = 0, bad = 0;
+  for (auto v : l) {
+    if (v == 1)
+      ++ground;
+    else if (v == 2)
+      ++other;
+    else if (v >= 100)
+      ++clustered;
+    else
+      ++bad;
+  }
+  EXPECT_EQ(bad, 0u);  // every KITTI point is a valid return
+  EXPECT_EQ(long(ground), j["ground_points"].get<long>());
+  EXPECT_GT(clustered, 30000u);
+  EXPECT_GT(std::filesystem::file_size(png), 10000u);
+  EXPECT_TRUE(std::filesystem::exists(dir / "out.range.png"));
+  EXPECT_TRUE(std::filesystem::exists(pcd));
+  // Outputs exist now: without --force nothing is replaced.
+  const auto again = run_cli(args({"segment", q(in), "--labels", q(labels)}));
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.output.find("fieldlidar: error:"), std::string::npos);
+  EXPECT_EQ(run_cli(args({"segment", q(in), "--labels", q(labels), "--force"})).exit_code, 0);
+  EXPECT_EQ(run_cli(args({"segment", q(in), "--method", "nonsense"})).exit_code, 1);
+  EXPECT_EQ(run_cli(args({"segment", q(dir / "missing.bin")})).exit_code, 1);
+}
+
+TEST(CliEvalGround, ScoresRellisLikeTheLibrary) {
+  FIELDLIDAR_REQUIRE_DATA("rellis3d/000001.label");
+  const auto r = run_cli(args({"eval-ground", q(data_file("rellis3d/000001.bin")),
+                               q(data_file("rellis3d/000001.label")), "--classes", "rellis",
+                               "--sensor", "os1-64", "--json"}));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  EXPECT_GE(j["f1"].get<double>(), 0.95);
+  EXPECT_GT(j["precision"].get<double>(), 0.9);
+  EXPECT_GT(j["recall"].get<double>(), 0.9);
+  const long scored = j["true_positive"].get<long>() + j["false_positive"].get<long>() +
+                      j["false_negative"].get<long>() + j["true_negative"].get<long>();
+  EXPECT_EQ(scored, 61781);  // valid returns that are not void
+  const auto s002 = run_cli(args({"eval-ground", q(data_file("rellis3d/000001.bin")),
+                                  q(data_file("rellis3d/000001.label")), "--classes", "rellis",
+                                  "--sensor", "os1-64", "--method", "seed002", "--json"}));
+  ASSERT_EQ(s002.exit_code, 0) << s002.output;
+  EXPECT_GT(nlohmann::json::parse(s002.output)["precision"].get<double>(), 0.99);
+  EXPECT_EQ(run_cli(args({"eval-ground", q(data_file("rellis3d/000001.bin")),
+                          q(data_file("kitti00/000000.bin")), "--classes", "rellis"}))
+                .exit_code,
+            1);  // label count does not match the cloud
+}
+
+}  // namespace
+}  // namespace fieldlidar::test

@@ -1,0 +1,65 @@
+// Ground segmentation on simulated scenes, where the truth is exact.
+
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "fieldlidar/segmentation/segment.hpp"
+#include "fieldlidar/sim/lidar_simulator.hpp"
+#include "fieldlidar/sim/motion.hpp"
+#include "fieldlidar/sim/scenes.hpp"
+
+namespace fieldlidar::segmentation {
+namespace {
+
+GroundScore sim_score(sim::SceneKind kind, const SensorModel& sensor, double t0_s,
+                      GroundMethod method = GroundMethod::kRobust) {
+  const sim::Scene scene = sim::make_scene(kind, 7);
+  const auto motion = sim::drive_scene_route(scene, t0_s + 1.0);
+  const sim::LidarSimulator lidar(scene, sensor);
+  const sim::SimFrame frame = lidar.scan(t0_s, motion.lidar_pose_fn());
+  GroundConfig cfg;
+  cfg.method = method;
+  const GroundResult r = segment_ground(frame.cloud, sensor, cfg);
+  const std::vector<std::uint16_t> ground{std::uint16_t(LabelClass::kGround)};
+  const std::vector<std::uint16_t> ignored{std::uint16_t(LabelClass::kUnlabelled)};
+  return score_ground(frame.cloud, r.is_ground, frame.cloud.labels, ground, ignored);
+}
+
+struct Case {
+  sim::SceneKind kind;
+  const char* sensor;
+  double t0_s;
+  double min_f1;  ///< regression bound just under the measured F1 (target 0.98)
+};
+
+class SimGround : public ::testing::TestWithParam<Case> {};
+
+TEST_P(SimGround, RobustF1) {
+  const Case c = GetParam();
+  const GroundScore s = sim_score(c.kind, *SensorModel::preset(c.sensor), c.t0_s);
+  std::printf("%s %s: P %.4f R %.4f F1 %.4f\n", sim::to_string(c.kind).c_str(), c.sensor,
+              s.precision, s.recall, s.f1);
+  EXPECT_GE(s.f1, c.min_f1) << sim::to_string(c.kind) << " " << c.sensor << " P " << s.precision
+                            << " R " << s.recall;
+}
+
+// Regression bounds just under the measured F1 (the target is 0.98 on each).
+INSTANTIATE_TEST_SUITE_P(Scenes, SimGround,
+                         ::testing::Values(Case{sim::SceneKind::kLawn, "vlp16", 1.0, 0.955},
+                                           Case{sim::SceneKind::kLawn, "os1-64", 4.0, 0.97},
+                                           Case{sim::SceneKind::kTerrain, "vlp16", 1.0, 0.955},
+                                           Case{sim::SceneKind::kTerrain, "hdl32e", 6.0, 0.975},
+                                           Case{sim::SceneKind::kForest, "vlp16", 1.0, 0.965},
+                                           Case{sim::SceneKind::kForest, "os1-64", 5.0, 0.985}),
+                         [](const auto& info) {
+                           std::string s = sim::to_string(info.param.kind) + "_" +
+                                           info.param.sensor + "_" +
+                                           std::to_string(int(info.param.t0_s));
+                           for (auto& ch : s)
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           return s;
+                         });
+
+}  // namespace
+}  // namespace fieldlidar::segmentation
