@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(FIELDLIDAR_VERSION));
   app.require_subcommand(0, 1);
   fieldlidar::app::add_info_command(app);
+  fieldlidar::app::add_segment_command(app);
+  fieldlidar::app::add_eval_ground_command(app);
   fieldlidar::app::add_convert_command(app);
   fieldlidar::app::add_demo_command(app);
   fieldlidar::app::add_simulate_command(app);
