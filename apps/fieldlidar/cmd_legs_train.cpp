@@ -11,10 +11,13 @@
 
 #include "commands.hpp"
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/follow/pipeline.hpp"
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/io/rosbag_reader.hpp"
 #include "fieldlidar/people/leg_training.hpp"
+#include "fieldlidar/sim/lidar_simulator.hpp"
+#include "fieldlidar/sim/scenes.hpp"
 
 namespace fieldlidar::app {
 
@@ -30,8 +33,41 @@ struct TrainOptions {
   double match_radius_m = 0.15;
   double low_quantile = 0.02;
   double high_quantile = 0.98;
+  int sim_frames = 0;
+  std::string sensor = "vlp16";
   bool force = false;
 };
+
+/// Simulated people: lawn sweeps from a still sensor with the operator and strollers walking.
+/// An arc is a leg when most of its points carry a person label (the simulator's truth); leg
+/// pairs are the two legs of each simulated person.
+void collect_simulated(int frames, const SensorModel& model, std::vector<people::LabelledArc>& arcs,
+                       std::vector<double>& pairs) {
+  sim::LawnConfig lawn;
+  lawn.extra_walkers = 3;
+  const auto scene = sim::make_lawn_scene(lawn, 7);
+  SensorModel sensor = model;
+  sensor.mounting_height_m = scene.sensor_height_m();
+  const sim::LidarSimulator lidar(scene, sensor);
+  follow::FollowConfig cfg;
+  const auto legs = follow::legs_for_sensor(cfg.legs, sensor);
+  for (int k = 0; k < frames; ++k) {
+    // The sensor stands at a few places along the near edge, looking along the lawn.
+    const Eigen::Vector2d xy(1.0 + 4.0 * (k % 5), 1.0);
+    const Pose T =
+        make_pose(xy.x(), xy.y(), scene.ground_height_at(xy) + sensor.mounting_height_m, 0, 0, 0);
+    const auto frame = lidar.scan(0.5 * k, T);
+    const auto clusters = follow::leg_band_clusters(frame.cloud, sensor, cfg);
+    for (const auto& arc : people::extract_ring_arcs(frame.cloud, clusters, legs)) {
+      std::size_t person = 0;
+      for (auto i : arc.indices)
+        person += label_class(frame.cloud.labels[i]) == LabelClass::kPerson;
+      arcs.push_back({arc.features, 2 * person > arc.indices.size(), true});
+    }
+    for (const auto& p : frame.people)
+      if (p.points > 0) pairs.push_back((p.legs_m[0] - p.legs_m[1]).norm());
+  }
+}
 
 /// Adds the arcs of every scan of `topic` in `bag`, labelled against `truth` (PoseArray i belongs
 /// to scan i; empty truth = no people).
@@ -60,8 +96,15 @@ void collect(const std::string& bag, const std::string& topic,
 void run_train(const TrainOptions& o) {
   const std::filesystem::path out(o.out);
   io::check_writable(out, o.force);
-  if (o.positive.empty()) throw Error("legs-train: give at least one --positive bag");
-  const people::LegDetectorConfig base = people::seed_only(people::default_2d_legs());
+  if (o.positive.empty() && o.sim_frames <= 0)
+    throw Error("legs-train: give --positive bags (2D) or --sim-frames N (3D)");
+  if (!o.positive.empty() && o.sim_frames > 0)
+    throw Error(
+        "legs-train: --positive (2D scans) and --sim-frames (3D sweeps) train different "
+        "configs; give one of them");
+  const bool sim3d = o.sim_frames > 0;
+  const people::LegDetectorConfig base = sim3d ? follow::FollowConfig::default_3d_legs()
+                                               : people::seed_only(people::default_2d_legs());
   std::vector<people::LabelledArc> arcs;
   std::vector<double> pairs;
   std::size_t pos_scans = 0, neg_scans = 0;
@@ -76,16 +119,27 @@ void run_train(const TrainOptions& o) {
     for (const auto& t : topics)
       collect(bag, t, {}, base, o.match_radius_m, arcs, pairs, neg_scans);
   }
+  if (sim3d) {
+    const auto model = SensorModel::preset(o.sensor);
+    if (!model) throw Error("--sensor '" + o.sensor + "': unknown sensor preset");
+    collect_simulated(o.sim_frames, *model, arcs, pairs);
+    pos_scans = std::size_t(o.sim_frames);
+  }
   people::TrainingOptions opt;
   opt.low_quantile = o.low_quantile;
   opt.high_quantile = o.high_quantile;
   const auto r = people::estimate_leg_bounds(arcs, pairs, base, opt);
   auto c = r.config;
   // The additions measured to help on real scans are switched on in the written config.
-  c.use_min_points = c.use_chord_max = c.use_circle_fit = c.use_curve_min = c.use_background = true;
+  if (sim3d) {
+    c.use_chord_max = true;  // the additions used by the follow pipeline's 3D config
+  } else {
+    c.use_min_points = c.use_chord_max = c.use_circle_fit = c.use_curve_min = c.use_background =
+        true;
+  }
   const std::string yaml =
       fmt::format(
-          "# estimated by fieldlidar legs-train from {} annotated and {} people-free scans\n"
+          "# estimated by fieldlidar legs-train from {} labelled and {} people-free scans\n"
           "# ({} leg arcs, {} other arcs, {} leg pairs; quantiles {:.3f}/{:.3f})\n",
           pos_scans, neg_scans, r.leg_arcs, r.other_arcs, r.leg_pairs, o.low_quantile,
           o.high_quantile) +
@@ -107,7 +161,10 @@ void add_legs_train_command(CLI::App& app) {
   auto o = std::make_shared<TrainOptions>();
   auto* cmd = app.add_subcommand(
       "legs-train", "Estimate the leg detector's bounds from annotated scans, write its YAML");
-  cmd->add_option("--positive", o->positive, "Bags with scans and annotated legs")->required();
+  cmd->add_option("--positive", o->positive, "Bags with scans and annotated legs (2D)");
+  cmd->add_option("--sim-frames", o->sim_frames,
+                  "Train a 3D config from this many simulated sweeps of walking people instead");
+  cmd->add_option("--sensor", o->sensor, "Sensor preset for --sim-frames")->capture_default_str();
   cmd->add_option("--negative", o->negative, "Bags of scans without people");
   cmd->add_option("--scan-topic", o->scan_topic, "Scan topic of the positive bags")
       ->capture_default_str();

@@ -29,15 +29,17 @@ segmentation::EuclideanClusterConfig FollowConfig::default_clusters() {
   return c;
 }
 
-Perception perceive(const PointCloud& cloud, const SensorModel& sensor, const Pose& T_world_lidar,
-                    const FollowConfig& config) {
-  Perception out;
+std::vector<std::vector<std::uint32_t>> leg_band_clusters(const PointCloud& cloud,
+                                                          const SensorModel& sensor,
+                                                          const FollowConfig& config,
+                                                          double* sensor_height_m,
+                                                          std::size_t* ground_points) {
   // Steps 1-2: ground removed, the rest clustered.
   const auto ground = segmentation::segment_ground(cloud, sensor, config.ground);
-  out.ground_points = ground.ground_count;
   double h = ground.sensor_height_m;
   if (!(h > 0.05)) h = sensor.mounting_height_m;
-  out.sensor_height_m = h;
+  if (sensor_height_m) *sensor_height_m = h;
+  if (ground_points) *ground_points = ground.ground_count;
   // Only points in the leg height band take part (the torso is not a leg).
   std::vector<std::uint8_t> skip(ground.is_ground);
   skip.resize(cloud.size(), 0);
@@ -46,15 +48,28 @@ Perception perceive(const PointCloud& cloud, const SensorModel& sensor, const Po
     if (above < config.leg_height_min_m || above > config.leg_height_max_m) skip[i] = 1;
   }
   const auto clusters = segmentation::cluster_euclidean(cloud, skip, config.clusters);
-  out.clusters = clusters.clusters.size();
   std::vector<std::vector<std::uint32_t>> indices;
   indices.reserve(clusters.clusters.size());
   for (const auto& c : clusters.clusters) indices.push_back(c.indices);
-  // Step 3: leg arcs on several rings, legs paired into people.
-  people::LegDetectorConfig legs = config.legs;
+  return indices;
+}
+
+people::LegDetectorConfig legs_for_sensor(const people::LegDetectorConfig& legs_in,
+                                          const SensorModel& sensor) {
+  people::LegDetectorConfig legs = legs_in;
   if (legs.split_azimuth_gap_rad <= 0)
     legs.split_azimuth_gap_rad = 2.5 * sensor.horizontal_resolution_rad();
-  const auto det = people::detect_legs_3d(cloud, indices, legs);
+  return legs;
+}
+
+Perception perceive(const PointCloud& cloud, const SensorModel& sensor, const Pose& T_world_lidar,
+                    const FollowConfig& config) {
+  Perception out;
+  const auto indices =
+      leg_band_clusters(cloud, sensor, config, &out.sensor_height_m, &out.ground_points);
+  out.clusters = indices.size();
+  // Step 3: leg arcs on several rings, legs paired into people.
+  const auto det = people::detect_legs_3d(cloud, indices, legs_for_sensor(config.legs, sensor));
   auto to_world = [&](const Eigen::Vector2d& p) {
     return (T_world_lidar * Eigen::Vector3d(p.x(), p.y(), 0.0)).head<2>().eval();
   };
