@@ -193,6 +193,7 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   const float above = float(config.ground_above_m), below = float(config.ground_below_m);
   const float clutter_top = float(config.clutter_height_m);
   const float cluttered_above = float(config.cluttered_above_m);
+  const float rejected_above = float(config.rejected_above_m);
   for (std::size_t c = 0; c < fits.size(); ++c) {
     const CellFit& fit = fits[c];
     if (fit.state == CellState::kEmpty) continue;
@@ -208,7 +209,7 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       }
       if (n >= 3 && std::sqrt(sq / double(n)) > config.max_roughness_m) continue;
     }
-    float cell_above = above;
+    float cell_above = fit.state == CellState::kGround ? above : rejected_above;
     if (config.max_clutter_ratio > 0 && fit.state == CellState::kGround) {
       std::size_t low = 0, clutter = 0;
       for (std::uint32_t i : cells.members(c)) {

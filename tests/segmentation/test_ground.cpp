@@ -113,12 +113,12 @@ class RellisGround : public ::testing::Test {
 
 TEST_F(RellisGround, RobustBeatsPatchworkPlusPlus) {
   // Patchwork++ with its defaults: P 0.914, R 0.970, F1 0.942 on this frame. The target
-  // is F1 >= 0.96; measured: P 0.933, R 0.972, F1 0.9525. Most of the remaining false positives
+  // is F1 >= 0.96; measured: P 0.942, R 0.971, F1 0.956. Most of the remaining false positives
   // are returns at ground level in front of the tree line that the truth labels "tree".
   const GroundScore s = score(ground_robust(cloud, sensor));
-  EXPECT_GE(s.f1, 0.950) << "P " << s.precision << " R " << s.recall;
+  EXPECT_GE(s.f1, 0.955) << "P " << s.precision << " R " << s.recall;
   EXPECT_GT(s.f1, 0.942);  // better than Patchwork++
-  EXPECT_GE(s.precision, 0.93);
+  EXPECT_GE(s.precision, 0.94);
   EXPECT_GE(s.recall, 0.965);
 }
 

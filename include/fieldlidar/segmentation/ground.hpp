@@ -45,6 +45,9 @@ struct RobustGroundConfig {
   double max_flatness_m = 0.08;  ///< sqrt of the smallest eigenvalue of a ground fit
   double ground_above_m = 0.15;  ///< points up to this above the local plane are ground
   double ground_below_m = 1.0;   ///< and down to this below it
+  /// In a cell that is not ground (an object stands there), points up to this above the ground
+  /// expected from the neighbouring cells are still ground (m).
+  double rejected_above_m = 0.03;
   /// Returns between ground_above_m and this height over a cell's plane are clutter (m).
   double clutter_height_m = 1.5;
   /// A cell with more clutter than this times its ground returns is cluttered (0 = off): the
