@@ -30,24 +30,24 @@ struct CellFit {
   CellState state = CellState::kEmpty;
 
   /// Height of (x, y, z) above the cell's ground plane, along z (m).
-  float height_above(const Point& p) const {
+  template <class P>
+  float height_above(const P& p) const {
     return (normal.x() * p.x + normal.y() * p.y + normal.z() * p.z + d) / normal.z();
   }
 };
 
 // PCA of the cell's low points (within seed_band_m of its lowest return).
-void fit_cell(const PointCloud& cloud, std::span<const std::uint32_t> members, double seed_band_m,
-              float max_cos, float cx, float cy, CellFit& fit) {
+void fit_cell(std::span<const CellPoint> members, double seed_band_m, float max_cos, float cx,
+              float cy, CellFit& fit) {
   float z_min = std::numeric_limits<float>::max();
-  for (std::uint32_t i : members) z_min = std::min(z_min, cloud.points[i].z);
+  for (const CellPoint& p : members) z_min = std::min(z_min, p.z);
   fit.z_min = z_min;
   const float band = z_min + float(seed_band_m);
   // Moments about the lowest return (small numbers, no cancellation): 3 sums, 6 products.
-  const Point& o = cloud.points[members.front()];
+  const CellPoint& o = members.front();
   double sx = 0, sy = 0, sz = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
   int n = 0;
-  for (std::uint32_t i : members) {
-    const Point& p = cloud.points[i];
+  for (const CellPoint& p : members) {
     if (p.z > band) continue;
     const double x = p.x - o.x, y = p.y - o.y, z = p.z - o.z;
     sx += x;
@@ -107,9 +107,9 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   for (int s = 0; s < grid.sectors(); ++s)
     for (int b = 0; b < grid.bins() && grid.bin_centre_m(b) < config.near_range_m; ++b) {
       if (grid.bin_centre_m(b) < 1.5f) continue;
-      const Point* low = nullptr;
-      for (std::uint32_t i : cells.members(grid.cell(b, s)))
-        if (!low || cloud.points[i].z < low->z) low = &cloud.points[i];
+      const CellPoint* low = nullptr;
+      for (const CellPoint& p : cells.points(grid.cell(b, s)))
+        if (!low || p.z < low->z) low = &p;
       if (low && low->z < 0.f) lows.emplace_back(low->x, low->y, low->z);
     }
   NearGroundPlane prior = fit_plane_to_lows(lows, max_slope_rad);
@@ -130,11 +130,11 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
     double ref_z = 0.0, ref_r = 0.0, ref_grad = 0.0;
     for (int b = 0; b < grid.bins(); ++b) {
       const std::size_t c = grid.cell(b, s);
-      const auto members = cells.members(c);
+      const auto members = cells.points(c);
       if (members.empty()) continue;
       const float r_mid = grid.bin_centre_m(b);
       CellFit& fit = fits[c];
-      fit_cell(cloud, members, config.seed_band_m, max_cos, r_mid * ca, r_mid * sa, fit);
+      fit_cell(members, config.seed_band_m, max_cos, r_mid * ca, r_mid * sa, fit);
       double predicted, tolerance;
       if (anchored) {
         const double dr = r_mid - ref_r;
@@ -200,8 +200,8 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
     if (config.max_roughness_m > 0 && fit.state == CellState::kGround) {
       double sq = 0;
       std::size_t n = 0;
-      for (std::uint32_t i : cells.members(c)) {
-        const float h = fit.height_above(cloud.points[i]);
+      for (const CellPoint& p : cells.points(c)) {
+        const float h = fit.height_above(p);
         if (std::abs(h) < 0.3f) {
           sq += double(h) * h;
           ++n;
@@ -212,8 +212,8 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
     float cell_above = fit.state == CellState::kGround ? above : rejected_above;
     if (config.max_clutter_ratio > 0 && fit.state == CellState::kGround) {
       std::size_t low = 0, clutter = 0;
-      for (std::uint32_t i : cells.members(c)) {
-        const float h = fit.height_above(cloud.points[i]);
+      for (const CellPoint& p : cells.points(c)) {
+        const float h = fit.height_above(p);
         if (h <= above)
           ++low;
         else if (h <= clutter_top)
@@ -221,8 +221,11 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       }
       if (double(clutter) > config.max_clutter_ratio * double(low)) cell_above = cluttered_above;
     }
-    for (std::uint32_t i : cells.members(c)) {
-      const Point& p = cloud.points[i];
+    const auto pts = cells.points(c);
+    const auto idx = cells.members(c);
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      const CellPoint& p = pts[k];
+      const std::uint32_t i = idx[k];
       const float h = fit.state == CellState::kGround ? fit.height_above(p) : p.z - fit.predicted;
       if (h <= cell_above && h >= -below) {
         result.is_ground[i] = 1;

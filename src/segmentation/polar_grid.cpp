@@ -47,8 +47,14 @@ PolarCells PolarGrid::assign(const PointCloud& cloud) const {
   for (std::size_t c = 0; c < cell_count(); ++c) out.offsets[c + 1] += out.offsets[c];
   out.order.resize(out.offsets.back());
   std::vector<std::uint32_t> fill(out.offsets.begin(), out.offsets.end() - 1);
+  out.xyz.resize(out.offsets.back());
   for (std::size_t i = 0; i < n; ++i)
-    if (cell_of[i] != std::uint32_t(-1)) out.order[fill[cell_of[i]]++] = std::uint32_t(i);
+    if (cell_of[i] != std::uint32_t(-1)) {
+      const std::uint32_t k = fill[cell_of[i]]++;
+      out.order[k] = std::uint32_t(i);
+      const Point& p = cloud.points[i];
+      out.xyz[k] = {p.x, p.y, p.z};
+    }
   return out;
 }
 

@@ -32,12 +32,22 @@ inline float fast_atan2(float y, float x) {
   return r;
 }
 
-/// Points sorted by cell (counting sort): members(c) are the indices of cell c.
+/// Coordinates of one point (m), copied contiguously so that the passes over a cell stream.
+struct CellPoint {
+  float x, y, z;
+};
+
+/// Points sorted by cell (counting sort): members(c) are the indices of cell c, points(c) their
+/// coordinates in the same order.
 struct PolarCells {
   std::vector<std::uint32_t> offsets;  ///< cell_count + 1
   std::vector<std::uint32_t> order;    ///< point indices grouped by cell
+  std::vector<CellPoint> xyz;          ///< coordinates in `order`
   std::span<const std::uint32_t> members(std::size_t c) const {
     return {order.data() + offsets[c], order.data() + offsets[c + 1]};
+  }
+  std::span<const CellPoint> points(std::size_t c) const {
+    return {xyz.data() + offsets[c], xyz.data() + offsets[c + 1]};
   }
 };
 
