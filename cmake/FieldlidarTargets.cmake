@@ -41,8 +41,17 @@ function(fieldlidar_add_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} fieldlidar_test_support GTest::gtest_main)
   fieldlidar_target_options(${name})
-  set(labels unit ${ARG_LABELS})
+  # The data folder is compiled in as the default (FIELDLIDAR_DATA_DIR in the environment still
+  # overrides it), so a test finds the data however it is started.
+  target_compile_definitions(${name} PRIVATE
+    FIELDLIDAR_TEST_DATA_DIR="${FIELDLIDAR_DATA_DIR}")
+  # One label per test executable ("unit" unless the caller names one such as "slow" or "cli"):
+  # gtest_discover_tests passes PROPERTIES on as a flat list, which cannot carry a list value.
+  set(label unit)
+  if(ARG_LABELS)
+    list(GET ARG_LABELS 0 label)
+  endif()
   gtest_discover_tests(${name}
-    PROPERTIES LABELS "${labels}" ENVIRONMENT "FIELDLIDAR_DATA_DIR=${FIELDLIDAR_DATA_DIR}"
+    PROPERTIES ENVIRONMENT "FIELDLIDAR_DATA_DIR=${FIELDLIDAR_DATA_DIR}" LABELS "${label}"
     DISCOVERY_TIMEOUT 60)
 endfunction()

@@ -9,10 +9,14 @@
 
 namespace fieldlidar::test {
 
-/// The real-data folder: $FIELDLIDAR_DATA_DIR (set by CTest), else ../shared/data.
+/// The real-data folder: $FIELDLIDAR_DATA_DIR, else the folder configured in CMake.
 inline std::filesystem::path data_dir() {
   if (const char* env = std::getenv("FIELDLIDAR_DATA_DIR"); env && *env) return env;
+#ifdef FIELDLIDAR_TEST_DATA_DIR
+  return FIELDLIDAR_TEST_DATA_DIR;
+#else
   return std::filesystem::path("..") / "shared" / "data";
+#endif
 }
 
 inline std::filesystem::path data_file(const std::string& relative) {
