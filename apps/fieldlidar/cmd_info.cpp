@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -12,6 +13,7 @@
 #include "commands.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/io/las.hpp"
 #include "fieldlidar/io/rosbag_reader.hpp"
 
 namespace fieldlidar::app {
@@ -75,8 +77,10 @@ nlohmann::json describe(const InfoOptions& opts) {
   PointFields fields;
   Bounds3 bounds;
   std::optional<std::pair<std::uint32_t, std::uint32_t>> organized;
+  std::map<std::uint32_t, std::size_t> label_counts;
   while (auto f = source->next()) {
     const PointCloud& c = f->cloud;
+    for (const auto label : c.labels) ++label_counts[label];
     (f->complete ? frames : partial) += 1;
     if (frames + partial == 1) first_stamp = f->stamp_s;
     last_stamp = f->stamp_s;
@@ -126,6 +130,24 @@ nlohmann::json describe(const InfoOptions& opts) {
       j["per_frame"]["duration_s"] = last_stamp - first_stamp;
     }
   }
+  if (!label_counts.empty() && label_counts.size() <= 256) {
+    nlohmann::json counts;
+    for (const auto& [label, count] : label_counts) counts[std::to_string(label)] = count;
+    j["label_counts"] = counts;
+  }
+  if (j["format"] == "las") {
+    // read_cloud() returns LAS points relative to a local origin; report it and the header.
+    const auto header = io::read_las_header(opts.input);
+    const auto origin = io::las_local_origin(header);
+    j["las"] = {{"version",
+                 std::to_string(header.version_major) + "." + std::to_string(header.version_minor)},
+                {"point_format", header.point_format},
+                {"scale", {header.scale.x(), header.scale.y(), header.scale.z()}},
+                {"offset", {header.offset.x(), header.offset.y(), header.offset.z()}},
+                {"origin_m", {origin.x(), origin.y(), origin.z()}},
+                {"header_min", {header.min.x(), header.min.y(), header.min.z()}},
+                {"header_max", {header.max.x(), header.max.y(), header.max.z()}}};
+  }
   const double inf = std::numeric_limits<double>::infinity();
   if (const auto imu = source->imu_until(inf).size()) j["imu_samples"] = imu;
   if (const auto odom = source->odometry_until(inf).size()) j["odometry_samples"] = odom;
@@ -161,6 +183,21 @@ void print_text(const nlohmann::json& j) {
     fmt::print("bounds:  x [{:.3f}, {:.3f}]  y [{:.3f}, {:.3f}]  z [{:.3f}, {:.3f}] m\n",
                lo[0].get<double>(), hi[0].get<double>(), lo[1].get<double>(), hi[1].get<double>(),
                lo[2].get<double>(), hi[2].get<double>());
+  }
+  if (j.contains("las")) {
+    const auto& l = j["las"];
+    fmt::print(
+        "las:     version {}, point format {}, bounds relative to origin ({:.0f}, {:.0f}, {:.0f}) "
+        "m\n",
+        l["version"].get<std::string>(), l["point_format"].get<int>(),
+        l["origin_m"][0].get<double>(), l["origin_m"][1].get<double>(),
+        l["origin_m"][2].get<double>());
+  }
+  if (j.contains("label_counts")) {
+    fmt::print("labels: ");
+    for (const auto& [label, count] : j["label_counts"].items())
+      fmt::print(" {}:{}", label, count.get<long>());
+    fmt::print("\n");
   }
   if (j.contains("imu_samples")) fmt::print("imu:     {} samples\n", j["imu_samples"].get<long>());
   if (j.contains("odometry_samples"))
