@@ -165,7 +165,12 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   // the median of its ground neighbours (a flat roof, a table, a dense bush top) is rejected; a
   // rejected cell takes the neighbours' median as its expected ground height.
   std::vector<float> neighbours;
-  std::vector<CellFit> checked = fits;
+  struct Update {
+    std::size_t cell;
+    CellState state;
+    float predicted;
+  };
+  std::vector<Update> updates;  // applied after the pass so every cell sees the pass-1 states
   for (int s = 0; s < grid.sectors(); ++s)
     for (int b = 0; b < grid.bins(); ++b) {
       const std::size_t c = grid.cell(b, s);
@@ -182,13 +187,15 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       auto mid = neighbours.begin() + neighbours.size() / 2;
       std::nth_element(neighbours.begin(), mid, neighbours.end());
       const float median = *mid;
-      CellFit& out = checked[c];
-      if (out.state == CellState::kGround && out.elevation > median + float(config.max_step_m)) {
-        out.state = CellState::kRejected;
-      }
-      if (out.state == CellState::kRejected) out.predicted = median;
+      CellState state = fits[c].state;
+      if (state == CellState::kGround && fits[c].elevation > median + float(config.max_step_m))
+        state = CellState::kRejected;
+      if (state == CellState::kRejected) updates.push_back({c, state, median});
     }
-  fits.swap(checked);
+  for (const Update& u : updates) {
+    fits[u.cell].state = u.state;
+    fits[u.cell].predicted = u.predicted;
+  }
 
   const float above = float(config.ground_above_m), below = float(config.ground_below_m);
   const float clutter_top = float(config.clutter_height_m);
