@@ -18,44 +18,11 @@
 #include "fieldlidar/io/label_file.hpp"
 #include "fieldlidar/segmentation/segment.hpp"
 #include "support/canvas.hpp"
+#include "support/sensor_choice.hpp"
 
 namespace fieldlidar::app {
 
 namespace {
-/// The named preset, or one guessed from the number of rings (no ring field: HDL-64E, KITTI).
-inline SensorModel sensor_for(const PointCloud& cloud, const std::string& input,
-                              const std::string& preset) {
-  if (!preset.empty()) {
-    auto s = SensorModel::preset(preset);
-    if (!s) throw Error("--sensor '" + preset + "' is not a known sensor preset");
-    return *s;
-  }
-  if (cloud.fields.ring) {
-    switch (cloud.ring_count()) {
-      case 16:
-        return SensorModel::vlp16();
-      case 32:
-        return SensorModel::hdl32e();
-      case 64:
-        return SensorModel::os1_64();
-      case 128:
-        return SensorModel::os1_128();
-      default:
-        break;
-    }
-    throw Error(input + ": " + std::to_string(cloud.ring_count()) +
-                " rings match no preset; pass --sensor");
-  }
-  return SensorModel::hdl64e();
-}
-
-inline segmentation::GroundMethod ground_method(const std::string& name) {
-  if (name == "robust") return segmentation::GroundMethod::kRobust;
-  if (name == "seed000") return segmentation::GroundMethod::kSeed000;
-  if (name == "seed002") return segmentation::GroundMethod::kSeed002;
-  throw Error("--method '" + name + "' is not robust, seed000 or seed002");
-}
-
 struct SegmentOptions {
   std::string input, method = "robust", sensor, clusters = "euclidean";
   std::string labels_out, cloud_out, png_out;

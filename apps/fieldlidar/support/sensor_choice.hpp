@@ -1,0 +1,20 @@
+#pragma once
+// Choosing the sensor model and ground method from command-line words.
+
+#include <string>
+
+#include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/segmentation/ground.hpp"
+
+namespace fieldlidar::app {
+
+/// The named preset, or one guessed from the number of rings (no ring field: HDL-64E, as KITTI).
+/// Throws fieldlidar::Error naming --sensor or the input when neither works.
+SensorModel sensor_for(const PointCloud& cloud, const std::string& input,
+                       const std::string& preset);
+
+/// "robust", "seed000" or "seed002"; throws fieldlidar::Error naming --method otherwise.
+segmentation::GroundMethod ground_method(const std::string& name);
+
+}  // namespace fieldlidar::app
