@@ -20,6 +20,7 @@
 
 #include "fieldlidar/core/error.hpp"
 #include "pcl_fields.hpp"
+#include "text_tokens.hpp"
 
 namespace fieldlidar::io {
 
@@ -45,19 +46,6 @@ struct PcdHeader {
 
 [[noreturn]] void fail(const std::string& source, const std::string& what) {
   throw Error(source + ": PCD " + what);
-}
-
-std::vector<std::string_view> split(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-    std::size_t j = i;
-    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
-    if (j > i) out.push_back(line.substr(i, j - i));
-    i = j;
-  }
-  return out;
 }
 
 std::uint64_t to_uint(std::string_view s, const std::string& source, std::string_view what) {
@@ -104,7 +92,7 @@ PcdHeader parse_header(std::span<const std::byte> bytes, const std::string& sour
       fail(source, "header has no DATA line (truncated, or not a PCD file)");
     const auto line = text.substr(pos, eol - pos);
     pos = eol + 1;
-    const auto tok = split(line);
+    const auto tok = detail::split_tokens(line);
     if (tok.empty() || tok[0][0] == '#') continue;
     const std::string_view key = tok[0];
     const std::size_t nvals = tok.size() - 1;
@@ -207,7 +195,7 @@ void parse_ascii_body(std::span<const std::byte> bytes, const PcdHeader& h,
     const auto eol = text.find('\n');
     const auto line = text.substr(0, eol);
     text = eol == std::string_view::npos ? std::string_view{} : text.substr(eol + 1);
-    const auto tok = split(line);
+    const auto tok = detail::split_tokens(line);
     if (tok.empty()) continue;
     if (idx >= h.points)
       fail(source, "has more than the " + std::to_string(h.points) + " points of its header");

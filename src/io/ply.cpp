@@ -9,6 +9,7 @@
 
 #include "fieldlidar/core/error.hpp"
 #include "pcl_fields.hpp"
+#include "text_tokens.hpp"
 
 namespace fieldlidar::io {
 
@@ -18,19 +19,6 @@ constexpr std::size_t kMaxHeaderBytes = 1 << 16;
 
 [[noreturn]] void fail(const std::string& source, const std::string& what) {
   throw Error(source + ": PLY " + what);
-}
-
-std::vector<std::string_view> split(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-    std::size_t j = i;
-    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
-    if (j > i) out.push_back(line.substr(i, j - i));
-    i = j;
-  }
-  return out;
 }
 
 std::size_t scalar_size(std::string_view t) {
@@ -63,7 +51,7 @@ void check_header(std::string_view text, std::uint64_t file_size, const std::str
   while (!ended) {
     const auto eol = text.find('\n', pos);
     if (eol == std::string_view::npos) fail(source, "header has no end_header (truncated?)");
-    const auto tok = split(text.substr(pos, eol - pos));
+    const auto tok = detail::split_tokens(text.substr(pos, eol - pos));
     pos = eol + 1;
     if (tok.empty()) continue;
     const auto key = tok[0];
