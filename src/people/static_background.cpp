@@ -18,16 +18,20 @@ int StaticBackground::index(const Eigen::Vector2d& p) const {
   return iy * side_ + ix;
 }
 
+double StaticBackground::value(int i) const {
+  const auto age = std::uint32_t(scans_) - stamp_[std::size_t(i)];
+  return double(occupancy_[std::size_t(i)]) * std::pow(1.0 - config_.rate, double(age));
+}
+
 void StaticBackground::update(std::span<const Eigen::Vector2d> points) {
   ++scans_;
-  const auto a = float(config_.rate);
-  // Decay every cell once per scan, then add the hits (each cell counted once per scan).
-  for (auto& o : occupancy_) o *= (1.f - a);
+  // Each cell decays by (1 - rate) per scan; the decay is applied lazily when a cell is touched
+  // (stamp_ = the scan of its last update), and a cell counts once per scan.
   for (const auto& p : points) {
     const int i = p.allFinite() ? index(p) : -1;
     if (i < 0 || stamp_[std::size_t(i)] == std::uint32_t(scans_)) continue;
+    occupancy_[std::size_t(i)] = float(value(i) + config_.rate);
     stamp_[std::size_t(i)] = std::uint32_t(scans_);
-    occupancy_[std::size_t(i)] += a;
   }
 }
 
@@ -40,12 +44,11 @@ bool StaticBackground::is_static(std::span<const Eigen::Vector2d> arc) const {
     const int i = index(p);
     if (i < 0) continue;
     const int ix = i % side_, iy = i / side_;
-    float best = 0.f;
+    double best = 0;
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         const int x = ix + dx, y = iy + dy;
-        if (x >= 0 && y >= 0 && x < side_ && y < side_)
-          best = std::max(best, occupancy_[std::size_t(y) * std::size_t(side_) + std::size_t(x)]);
+        if (x >= 0 && y >= 0 && x < side_ && y < side_) best = std::max(best, value(y * side_ + x));
       }
     if (best / full >= config_.static_occupancy) ++on_background;
   }

@@ -2,6 +2,7 @@
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/people/leg_training.hpp"
+#include "fieldlidar/people/static_background.hpp"
 
 namespace fieldlidar::people {
 namespace {
@@ -44,6 +45,28 @@ TEST(Matching, OneToOneWithinTheRadius) {
   EXPECT_EQ(m.false_negative, 1u);
   EXPECT_DOUBLE_EQ(m.precision(), 1.0 / 3);
   EXPECT_DOUBLE_EQ(m.recall(), 0.5);
+}
+
+}  // namespace
+}  // namespace fieldlidar::people
+
+namespace fieldlidar::people {
+namespace {
+
+TEST(StaticBackground, StillObjectsBecomeBackgroundWalkersDoNot) {
+  StaticBackground bg;
+  const std::vector<Eigen::Vector2d> post{{2.0, 1.0}, {2.02, 1.01}};
+  for (int k = 0; k < 40; ++k) {
+    std::vector<Eigen::Vector2d> scan = post;
+    scan.emplace_back(-3.0 + 0.1 * k, 2.0);         // a walker at 1 m/s (10 Hz)
+    if (k == 10) EXPECT_FALSE(bg.is_static(post));  // still warming up
+    bg.update(scan);
+  }
+  EXPECT_TRUE(bg.is_static(post));
+  EXPECT_FALSE(bg.is_static(std::vector<Eigen::Vector2d>{{-3.0 + 0.1 * 39, 2.0}}));
+  EXPECT_FALSE(bg.is_static(std::vector<Eigen::Vector2d>{{5.0, 5.0}}));
+  // Out of the grid: never background.
+  EXPECT_FALSE(bg.is_static(std::vector<Eigen::Vector2d>{{50.0, 0.0}}));
 }
 
 }  // namespace

@@ -33,6 +33,7 @@ class StaticBackground {
 
  private:
   int index(const Eigen::Vector2d& p) const;
+  double value(int cell) const;  ///< occupancy of a cell now (its decay applied)
   StaticBackgroundConfig config_;
   int side_ = 0;
   int scans_ = 0;
