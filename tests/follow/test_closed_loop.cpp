@@ -52,8 +52,11 @@ TEST(ClosedLoop, DefaultLawnBoundaryMatchesTheWalkedLoop) {
 TEST(ClosedLoop, CrossingPersonNeverTakesTheTargetId) {
   const auto r = run(Scenario::kCrossing);
   ASSERT_TRUE(r.first_target_id.has_value());
-  for (const auto& row : r.rows)
-    if (row.target_id >= 0) EXPECT_EQ(row.target_id, std::int64_t(*r.first_target_id));
+  for (const auto& row : r.rows) {
+    if (row.target_id >= 0) {
+      EXPECT_EQ(row.target_id, std::int64_t(*r.first_target_id));
+    }
+  }
   EXPECT_EQ(r.target_switches, 0u);
   EXPECT_EQ(r.frames_target_off, 0u);  // the estimate never jumps to the crosser
   EXPECT_TRUE(r.stopped_by_command);
