@@ -1,5 +1,8 @@
-// fieldlidar demo: the built-in default job, run when no command is given.
+// fieldlidar demo: the built-in default job, run when no command is given. It runs the seed 000
+// closed loop in simulation (the mower follows its operator and records the lawn boundary) and,
+// when the real data is present, scores ground segmentation on a real off-road scan.
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -8,26 +11,87 @@
 
 #include "commands.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
+#include "fieldlidar/io/label_file.hpp"
+#include "fieldlidar/segmentation/segment.hpp"
+#include "follow_job.hpp"
 
 namespace fieldlidar::app {
 
 namespace {
+
+namespace fs = std::filesystem;
+
 struct DemoOptions {
   std::string data_dir = FIELDLIDAR_DEFAULT_DATA_DIR;
+  std::string out;
 };
+
+/// `base`, or `base_2`, `base_3`, ... : the first name not taken, so a demo never replaces
+/// anything that is already there.
+fs::path fresh_folder(const fs::path& base) {
+  if (!fs::exists(base)) return base;
+  for (int i = 2;; ++i) {
+    fs::path p = base;
+    p += "_" + std::to_string(i);
+    if (!fs::exists(p)) return p;
+  }
+}
+
+void score_real_ground(const fs::path& data_dir) {
+  const fs::path scan = data_dir / "rellis3d" / "000001.bin";
+  const fs::path truth = data_dir / "rellis3d" / "000001.label";
+  if (!fs::exists(scan) || !fs::exists(truth)) {
+    fmt::print("\n[2/2] real off-road scan skipped: {} is absent\n", scan.string());
+    return;
+  }
+  const PointCloud cloud = io::read_cloud(scan);
+  const auto labels = io::read_labels(truth, cloud.size());
+  SensorModel sensor = SensorModel::os1_64();
+  sensor.columns = 2048;  // RELLIS-3D's Ouster ran in 2048 x 10 mode
+  fmt::print(
+      "\n[2/2] ground segmentation on a real off-road scan (RELLIS-3D, Ouster OS1-64, {} "
+      "points) against its labels\n",
+      cloud.size());
+  fmt::print("      method    precision  recall  F1      time\n");
+  for (const auto& [name, method] : {std::pair{"robust", segmentation::GroundMethod::kRobust},
+                                     std::pair{"seed000", segmentation::GroundMethod::kSeed000},
+                                     std::pair{"seed002", segmentation::GroundMethod::kSeed002}}) {
+    segmentation::GroundConfig cfg;
+    cfg.method = method;
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto r = segmentation::segment_ground(cloud, sensor, cfg);
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const auto s = segmentation::score_ground(cloud, r.is_ground, labels,
+                                              segmentation::rellis_ground_classes(),
+                                              segmentation::rellis_ignored_classes());
+    fmt::print("      {:<9} {:.3f}      {:.3f}   {:.3f}   {:.1f} ms\n", name, s.precision, s.recall,
+               s.f1, ms);
+  }
+}
+
 }  // namespace
 
 void add_demo_command(CLI::App& app) {
   auto opts = std::make_shared<DemoOptions>();
-  auto* cmd = app.add_subcommand("demo", "Run the built-in demonstration (the default job)");
+  auto* cmd = app.add_subcommand(
+      "demo",
+      "Run the built-in demonstration (the default job): a simulated mower follows its "
+      "operator around a lawn and records the boundary; ground segmentation is scored on "
+      "a real scan");
   cmd->add_option("--data-dir", opts->data_dir, "Folder of real recorded data")
       ->capture_default_str();
+  cmd->add_option("--out", opts->out,
+                  "Output folder (default: ./fieldlidar_demo, or _2, _3, ... if that exists)");
   cmd->callback([opts] {
-    const auto scan = std::filesystem::path(opts->data_dir) / "kitti00" / "000000.bin";
-    const PointCloud cloud = io::read_cloud(scan);
-    const auto b = compute_bounds(cloud);
-    fmt::print("fieldlidar demo: {} -> {} points, x [{:.1f}, {:.1f}] m, y [{:.1f}, {:.1f}] m\n",
-               scan.string(), cloud.size(), b.min.x(), b.max.x(), b.min.y(), b.max.y());
+    const fs::path out = opts->out.empty() ? fresh_folder("fieldlidar_demo") : fs::path(opts->out);
+    fmt::print("[1/2] seed 000: simulated VLP-16 mower follows its operator around a lawn\n");
+    FollowOptions follow;
+    follow.out = out.string();
+    run_follow(follow);
+    score_real_ground(opts->data_dir);
+    fmt::print("\nOpen {}/follow.png for the picture; boundary.geojson is the lawn polygon.\n",
+               out.string());
   });
 }
 

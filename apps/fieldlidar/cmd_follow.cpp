@@ -13,6 +13,7 @@
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/follow/closed_loop.hpp"
 #include "fieldlidar/io/file_util.hpp"
+#include "follow_job.hpp"
 #include "support/canvas.hpp"
 
 namespace fieldlidar::app {
@@ -20,19 +21,6 @@ namespace fieldlidar::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct FollowOptions {
-  std::string scene = "lawn";
-  std::string sensor = "vlp16";
-  std::string scenario = "default";
-  std::uint64_t seed = 0;
-  std::string out;
-  bool force = false;
-  std::int64_t target_id = -1;
-  double max_time_s = 0;
-  double safe_distance_m = -1;
-  double max_distance_m = -1;
-};
 
 void write_text(const fs::path& path, const std::string& text, bool force) {
   io::write_file_atomic(path, text.data(), text.size(), force);
@@ -97,6 +85,8 @@ void write_picture(const fs::path& path, const sim::Scene& scene, const follow::
   canvas.title(title);
   canvas.save_png(path, force);
 }
+
+}  // namespace
 
 void run_follow(const FollowOptions& o) {
   if (o.scene != "lawn") throw Error("--scene '" + o.scene + "': only 'lawn' is supported");
@@ -170,8 +160,6 @@ void run_follow(const FollowOptions& o) {
       r.first_target_id ? std::int64_t(*r.first_target_id) : -1, r.target_switches,
       r.frames_moving_too_close, dir.string());
 }
-
-}  // namespace
 
 void add_follow_command(CLI::App& app) {
   auto o = std::make_shared<FollowOptions>();
