@@ -50,7 +50,16 @@ void run_legs(const LegsOptions& o) {
   const fs::path out(o.out);
   io::check_writable(out, o.force);
   people::LegDetectorConfig legs = people::default_2d_legs();
-  if (!o.config.empty()) legs = people::legs_config_from_yaml(read_text(o.config), o.config, legs);
+  if (!o.config.empty()) {
+    legs = people::legs_config_from_yaml(read_text(o.config), o.config, legs);
+    if (!legs.classifier_file.empty()) {
+      // The learned classifier lives next to the config (legs-train writes both).
+      fs::path model(legs.classifier_file);
+      if (model.is_relative()) model = fs::path(o.config).parent_path() / model;
+      legs.classifier = std::make_shared<const people::LegClassifier>(
+          people::leg_classifier_from_yaml(read_text(model), model.string()));
+    }
+  }
   if (o.seed_only) legs = people::seed_only(legs);
 
   // Annotated legs per scan. The annotation bags record one PoseArray per scan, in step, with

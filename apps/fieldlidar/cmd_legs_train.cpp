@@ -2,6 +2,7 @@
 // L_min, L_max, dist_max and the additions' bounds) from annotated 2D scans (ROS bags with a
 // PoseArray of leg positions per scan) and scans without people, and writes the YAML config.
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -15,6 +16,7 @@
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/io/rosbag_reader.hpp"
+#include "fieldlidar/people/leg_classifier.hpp"
 #include "fieldlidar/people/leg_training.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/scenes.hpp"
@@ -36,6 +38,8 @@ struct TrainOptions {
   int sim_frames = 0;
   std::string sensor = "vlp16";
   bool force = false;
+  bool classifier = true;
+  int rounds = 200;
 };
 
 /// Simulated people: lawn sweeps from a still sensor with the operator and strollers walking.
@@ -69,12 +73,14 @@ void collect_simulated(int frames, const SensorModel& model, std::vector<people:
   }
 }
 
+constexpr double kFarFromLegM = 0.5;
+
 /// Adds the arcs of every scan of `topic` in `bag`, labelled against `truth` (PoseArray i belongs
 /// to scan i; empty truth = no people).
 void collect(const std::string& bag, const std::string& topic,
              const std::vector<io::PoseArraySample>& truth, const people::LegDetectorConfig& base,
              double radius, std::vector<people::LabelledArc>& arcs, std::vector<double>& pairs,
-             std::size_t& scans) {
+             std::size_t& scans, people::SegmentSamples& samples) {
   io::SourceOptions so;
   so.topic = topic;
   auto src = io::FrameSource::open(bag, so);
@@ -88,13 +94,18 @@ void collect(const std::string& bag, const std::string& topic,
         legs.emplace_back(pose.translation().x(), pose.translation().y());
     const auto a = people::label_arcs_2d(pts, legs, base, radius);
     arcs.insert(arcs.end(), a.begin(), a.end());
+    // Classifier samples: segments matched to an annotation are legs; those farther than 0.5 m
+    // from every annotation are not (a leg split in two, or both legs in one segment, is left out).
+    people::collect_segment_samples(pts, legs, base.range_min_m, base.range_max_m,
+                                    base.segment_jump_m, radius, kFarFromLegM, samples);
     const auto d = people::leg_pair_distances(legs);
     pairs.insert(pairs.end(), d.begin(), d.end());
   }
 }
 
 void run_train(const TrainOptions& o) {
-  const std::filesystem::path out(o.out);
+  namespace fs = std::filesystem;
+  const fs::path out(o.out);
   io::check_writable(out, o.force);
   if (o.positive.empty() && o.sim_frames <= 0)
     throw Error("legs-train: give --positive bags (2D) or --sim-frames N (3D)");
@@ -107,17 +118,18 @@ void run_train(const TrainOptions& o) {
                                                : people::seed_only(people::default_2d_legs());
   std::vector<people::LabelledArc> arcs;
   std::vector<double> pairs;
+  people::SegmentSamples samples;
   std::size_t pos_scans = 0, neg_scans = 0;
   for (const auto& bag : o.positive)
     collect(bag, o.scan_topic, io::read_pose_arrays(bag, o.truth_topic), base, o.match_radius_m,
-            arcs, pairs, pos_scans);
+            arcs, pairs, pos_scans, samples);
   for (const auto& bag : o.negative) {
     std::vector<std::string> topics = o.negative_topics;
     if (topics.empty())
       for (const auto& t : io::bag_topics(bag))
         if (t.datatype == "sensor_msgs/LaserScan") topics.push_back(t.name);
     for (const auto& t : topics)
-      collect(bag, t, {}, base, o.match_radius_m, arcs, pairs, neg_scans);
+      collect(bag, t, {}, base, o.match_radius_m, arcs, pairs, neg_scans, samples);
   }
   if (sim3d) {
     const auto model = SensorModel::preset(o.sensor);
@@ -137,6 +149,26 @@ void run_train(const TrainOptions& o) {
     c.use_min_points = c.use_chord_max = c.use_circle_fit = c.use_curve_min = c.use_background =
         true;
   }
+  // 2D: the learned classifier (Real AdaBoost on segment features), written next to the config.
+  std::string model_yaml;
+  fs::path model_path;
+  std::size_t model_legs = 0;
+  if (!sim3d && o.classifier) {
+    model_legs = std::size_t(std::count(samples.is_leg.begin(), samples.is_leg.end(), char(1)));
+    if (model_legs == 0 || model_legs == samples.is_leg.size())
+      throw Error("legs-train: the classifier needs leg and other segments; got " +
+                  std::to_string(model_legs) + " legs of " + std::to_string(samples.is_leg.size()) +
+                  " segments");
+    people::BoostOptions bo;
+    bo.rounds = o.rounds;
+    const auto model = people::train_leg_classifier(samples.features, samples.is_leg, bo);
+    model_path = out.parent_path() / (out.stem().string() + "_classifier.yaml");
+    io::check_writable(model_path, o.force);
+    model_yaml = fmt::format("# trained by fieldlidar legs-train on {} leg and {} other segments\n",
+                             model_legs, samples.is_leg.size() - model_legs) +
+                 people::to_yaml(model);
+    c.classifier_file = model_path.filename().string();
+  }
   const std::string yaml =
       fmt::format(
           "# estimated by fieldlidar legs-train from {} labelled and {} people-free scans\n"
@@ -144,7 +176,12 @@ void run_train(const TrainOptions& o) {
           pos_scans, neg_scans, r.leg_arcs, r.other_arcs, r.leg_pairs, o.low_quantile,
           o.high_quantile) +
       people::to_yaml(c);
+  if (!model_yaml.empty())
+    io::write_file_atomic(model_path, model_yaml.data(), model_yaml.size(), o.force);
   io::write_file_atomic(out, yaml.data(), yaml.size(), o.force);
+  if (!model_yaml.empty())
+    fmt::print("legs-train: leg classifier from {} leg and {} other segments: wrote {}\n",
+               model_legs, samples.is_leg.size() - model_legs, model_path.string());
   fmt::print(
       "legs-train: {} leg arcs, {} other arcs from {} + {} scans\n"
       "  delta_c {:.3f}, L_min {:.3f} m, L_max {:.3f} m, dist_max {:.3f} m\n"
@@ -178,6 +215,12 @@ void add_legs_train_command(CLI::App& app) {
   cmd->add_option("--high-quantile", o->high_quantile)->capture_default_str();
   cmd->add_option("--out", o->out, "YAML config to write")->required();
   cmd->add_flag("--force", o->force, "Overwrite the output file");
+  cmd->add_flag("--classifier,!--no-classifier", o->classifier,
+                "2D: also train the learned leg classifier (written as OUT_classifier.yaml)")
+      ->capture_default_str();
+  cmd->add_option("--rounds", o->rounds, "Boosting rounds of the leg classifier")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 5000));
   cmd->callback([o] { run_train(*o); });
 }
 

@@ -76,6 +76,7 @@ LegDetectorConfig seed_only(LegDetectorConfig c) {
   c.use_foreground = c.use_background = false;
   c.smooth_window = 1;
   c.path_step_m = 0.0;
+  c.classifier.reset();
   return c;
 }
 
@@ -186,7 +187,11 @@ LegDetection detect_legs_2d(std::span<const Eigen::Vector2d> ordered_points,
     const auto [b, e] = segments[s];
     const auto arc = arc_features(std::span(pts).subspan(b, e - b), config);
     ++out.arcs_tested;
-    if (classify_arc(arc, config) != ArcVerdict::kLeg) continue;
+    if (config.classifier) {
+      if (!config.classifier->is_leg(segment_features(pts, b, e))) continue;
+    } else if (classify_arc(arc, config) != ArcVerdict::kLeg) {
+      continue;
+    }
     if (config.use_foreground && !in_foreground(pts, b, e, config.foreground_margin_m)) continue;
     if (config.use_background && background &&
         background->is_static(std::span(pts).subspan(b, e - b)))

@@ -25,7 +25,9 @@ Field field(T LegDetectorConfig::*member, const char* comment) {
   Field f;
   f.comment = comment;
   f.print = [member](const LegDetectorConfig& c) {
-    if constexpr (std::is_same_v<T, bool>) {
+    if constexpr (std::is_same_v<T, std::string>) {
+      return "\"" + c.*member + "\"";
+    } else if constexpr (std::is_same_v<T, bool>) {
       return std::string(c.*member ? "true" : "false");
     } else if constexpr (std::is_integral_v<T>) {
       return std::to_string(c.*member);
@@ -67,6 +69,8 @@ const std::vector<std::pair<std::string, Field>>& fields() {
       {"use_background", field(&C::use_background, "addition: 2D static background filter")},
       {"use_foreground", field(&C::use_foreground, "addition: 2D arc not seen through a gap")},
       {"foreground_margin_m", field(&C::foreground_margin_m, "neighbour nearer by this (m)")},
+      {"classifier_file",
+       field(&C::classifier_file, "2D learned leg classifier YAML (relative; empty = bounds)")},
   };
   return f;
 }

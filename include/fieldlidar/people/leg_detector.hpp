@@ -12,13 +12,16 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/people/leg_classifier.hpp"
 #include "fieldlidar/people/static_background.hpp"
 
 namespace fieldlidar::people {
@@ -67,12 +70,18 @@ struct LegDetectorConfig {
   bool use_background = false;  ///< 2D: drop arcs on the static background (StaticBackground)
   bool use_foreground = false;
   double foreground_margin_m = 0.05;
+  /// 2D: learned classifier over segment features (leg_classifier.hpp). When set, it replaces
+  /// the bound tests of classify_arc for every segment (the background filter still applies).
+  std::shared_ptr<const LegClassifier> classifier;
+  /// YAML file of `classifier` (written by legs-train), relative to the legs config's folder;
+  /// loading it is the caller's job (the library reads no files). Empty = none.
+  std::string classifier_file;
 };
 
 /// Bounds for 2D laser scans of legs (0.33 deg resolution, people at 0.5-8 m), as estimated by
 /// `fieldlidar legs-train` on the annotated scans of ../shared/data/legs_2d, additions on.
 LegDetectorConfig default_2d_legs();
-/// `config` with every addition switched off: the seed's method alone.
+/// `config` with every addition (and the learned classifier) switched off: the seed's method alone.
 LegDetectorConfig seed_only(LegDetectorConfig config);
 
 /// Shape of one arc (one ring's points of one segment, in scan order).

@@ -1,0 +1,103 @@
+// The learned leg classifier: features, training on a separable synthetic set, YAML round trip.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/people/leg_classifier.hpp"
+#include "fieldlidar/people/leg_detector.hpp"
+
+namespace fieldlidar::people {
+namespace {
+
+/// Points of an arc of a circle of radius r (m) centred at (cx, 0), facing the sensor at the
+/// origin.
+std::vector<Eigen::Vector2d> arc(double cx, double r, int n) {
+  std::vector<Eigen::Vector2d> p;
+  for (int j = 0; j < n; ++j) {
+    const double a = M_PI + (double(j) / (n - 1) - 0.5) * 1.6;
+    p.emplace_back(cx + r * std::cos(a), r * std::sin(a));
+  }
+  return p;
+}
+
+std::vector<Eigen::Vector2d> line(double x, double half_width, int n) {
+  std::vector<Eigen::Vector2d> p;
+  for (int j = 0; j < n; ++j) p.emplace_back(x, -half_width + 2 * half_width * j / (n - 1));
+  return p;
+}
+
+TEST(LegClassifier, FeaturesOfAnArcAndALine) {
+  const auto a = arc(2.0, 0.06, 9);
+  const auto f = segment_features(a, 0, a.size());
+  for (double v : f) EXPECT_TRUE(std::isfinite(v));
+  EXPECT_EQ(f[0], 9.0);
+  EXPECT_NEAR(f[4], 0.06, 1e-6);  // circle radius
+  EXPECT_GT(f[11], 0.015);        // bulges toward the sensor: r (1 - cos 0.8) = 0.018 m
+  EXPECT_NEAR(f[9], 1.95, 0.02);  // range of the centroid
+  const auto l = line(3.0, 0.5, 20);
+  const auto g = segment_features(l, 0, l.size());
+  for (double v : g) EXPECT_TRUE(std::isfinite(v));
+  EXPECT_NEAR(g[3], 1.0, 1e-9);  // bend of a straight segment
+  EXPECT_NEAR(g[6], 0.0, 1e-9);  // no spread across its line
+  EXPECT_EQ(segment_feature_names().size(), kSegmentFeatures);
+}
+
+TEST(LegClassifier, LearnsArcsFromWallsAndRoundTripsThroughYaml) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> range(1.0, 6.0), radius(0.04, 0.08), width(0.2, 1.0);
+  std::vector<SegmentFeatures> x;
+  std::vector<char> y;
+  for (int i = 0; i < 400; ++i) {
+    const auto a = arc(range(rng), radius(rng), 6 + i % 8);
+    x.push_back(segment_features(a, 0, a.size()));
+    y.push_back(1);
+    const auto l = line(range(rng), width(rng), 6 + i % 20);
+    x.push_back(segment_features(l, 0, l.size()));
+    y.push_back(0);
+  }
+  BoostOptions o;
+  o.rounds = 20;
+  const auto model = train_leg_classifier(x, y, o);
+  EXPECT_EQ(model.trees.size(), 20u);
+  std::size_t right = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) right += model.is_leg(x[i]) == bool(y[i]);
+  EXPECT_GE(double(right) / double(x.size()), 0.98);
+  const auto back = leg_classifier_from_yaml(to_yaml(model), "model.yaml");
+  ASSERT_EQ(back.trees.size(), model.trees.size());
+  EXPECT_DOUBLE_EQ(back.threshold, model.threshold);
+  for (std::size_t i = 0; i < x.size(); i += 37)
+    EXPECT_NEAR(back.score(x[i]), model.score(x[i]), 1e-6);
+  // The classifier drives detect_legs_2d when set.
+  LegDetectorConfig c = default_2d_legs();
+  c.use_background = false;
+  c.classifier = std::make_shared<const LegClassifier>(model);
+  auto scan = arc(2.0, 0.06, 9);
+  const auto wall = line(4.0, 0.8, 40);
+  scan.insert(scan.end(), wall.begin(), wall.end());
+  const auto d = detect_legs_2d(scan, c);
+  ASSERT_EQ(d.legs.size(), 1u);
+  EXPECT_NEAR(d.legs[0].position_m.x(), 1.95, 0.03);
+}
+
+TEST(LegClassifier, RejectsBadInput) {
+  std::vector<SegmentFeatures> x(3);
+  std::vector<char> y(3, 0);
+  EXPECT_THROW(train_leg_classifier(x, y), std::invalid_argument);
+  EXPECT_THROW(train_leg_classifier(x, std::vector<char>(2, 1)), std::invalid_argument);
+  EXPECT_THROW(leg_classifier_from_yaml("foo: 1\n", "m.yaml"), Error);
+  EXPECT_THROW(leg_classifier_from_yaml("leg_classifier:\n  trees: []\n", "m.yaml"), Error);
+  EXPECT_THROW(
+      leg_classifier_from_yaml("leg_classifier:\n  trees:\n    - {feature: nope, threshold: "
+                               "1, below: {feature: points, threshold: 1, below: 0, "
+                               "above: 0}, above: {feature: points, threshold: 1, "
+                               "below: 0, above: 0}}\n",
+                               "m.yaml"),
+      Error);
+  EXPECT_THROW(leg_classifier_from_yaml("leg_classifier: [\n", "m.yaml"), Error);
+}
+
+}  // namespace
+}  // namespace fieldlidar::people
