@@ -88,6 +88,75 @@ void fit_cell(std::span<const CellPoint> members, double seed_band_m, float max_
   fit.elevation = -(fit.normal.x() * cx + fit.normal.y() * cy + fit.d) / fit.normal.z();
 }
 
+// Foot-of-a-face test: returns of one azimuth column ordered by elevation (z / horizontal range
+// is monotonic in it) are, to the column's width, the beams of neighbouring rings. A pair of
+// them that rises steeply lies on a vertical face -- a trunk, a hedge, the base of a shrub -- and
+// a return there within a few centimetres of the ground plane passes the plane tests but is not
+// ground. Ground between rings rises at most at the ground slope (< 22 deg), far from a face.
+// The upper return of a steep pair is rejected; the lower one only when the pair is nearly
+// vertical, since real ground in front of a face forms a steep pair with the face's lowest hit.
+void reject_face_feet(const PointCloud& cloud, const RobustGroundConfig& config, int columns,
+                      GroundResult& result) {
+  struct ColumnPoint {
+    float elevation;  ///< z / rho, monotonic in the beam elevation
+    float rho;        ///< m, horizontal range
+    float z;          ///< m
+    std::uint32_t index;
+  };
+  const std::size_t n = cloud.size();
+  const float max_rho = float(config.max_range_m);
+  const float col_scale = float(columns) / (2.f * std::numbers::pi_v<float>);
+  std::vector<std::uint32_t> column_of(n, std::uint32_t(-1));
+  std::vector<std::uint32_t> offsets(std::size_t(columns) + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point& p = cloud.points[i];
+    if (!valid_point(p)) continue;
+    const float rho = std::sqrt(p.x * p.x + p.y * p.y);
+    if (rho < 0.3f || rho > max_rho) continue;
+    int col = int((fast_atan2(p.y, p.x) + std::numbers::pi_v<float>)*col_scale);
+    col = std::clamp(col, 0, columns - 1);
+    column_of[i] = std::uint32_t(col);
+    ++offsets[std::size_t(col) + 1];
+  }
+  for (int c = 0; c < columns; ++c) offsets[std::size_t(c) + 1] += offsets[std::size_t(c)];
+  std::vector<ColumnPoint> pts(offsets.back());
+  {
+    std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (column_of[i] == std::uint32_t(-1)) continue;
+      const Point& p = cloud.points[i];
+      const float rho = std::sqrt(p.x * p.x + p.y * p.y);
+      pts[fill[column_of[i]]++] = {p.z / rho, rho, p.z, std::uint32_t(i)};
+    }
+  }
+  const float cot_steep = float(1.0 / std::tan(config.face_steep_deg * std::numbers::pi / 180.0));
+  const float min_rise = float(config.face_min_rise_m);
+  const float cot_foot = float(1.0 / std::tan(config.face_foot_deg * std::numbers::pi / 180.0));
+  const int k_max = std::max(1, config.face_neighbours);
+  std::vector<std::uint32_t> feet;
+  for (int c = 0; c < columns; ++c) {
+    const auto first = pts.begin() + offsets[std::size_t(c)];
+    const auto last = pts.begin() + offsets[std::size_t(c) + 1];
+    std::sort(first, last,
+              [](const ColumnPoint& a, const ColumnPoint& b) { return a.elevation < b.elevation; });
+    for (auto it = first; it != last; ++it) {
+      const auto stop = std::min(last, it + 1 + k_max);
+      for (auto up = it + 1; up != stop; ++up) {
+        const float rise = up->z - it->z;
+        const float run = std::abs(up->rho - it->rho);
+        if (rise < min_rise || run > rise * cot_steep) continue;
+        if (result.is_ground[up->index]) feet.push_back(up->index);
+        if (run <= rise * cot_foot && result.is_ground[it->index]) feet.push_back(it->index);
+      }
+    }
+  }
+  for (const std::uint32_t i : feet)
+    if (result.is_ground[i]) {
+      result.is_ground[i] = 0;
+      --result.ground_count;
+    }
+}
+
 }  // namespace
 
 GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
@@ -240,6 +309,12 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       }
     }
   }
+  // Dense beam tables (64+ rings) resolve the faces themselves in the plane fits and gain
+  // nothing measurable from the test (RELLIS-3D: F1 0.9563 either way), at 2-3x the cost.
+  const int face_columns = config.face_columns >= 0 ? config.face_columns
+                           : sensor.rings() <= 32   ? sensor.columns
+                                                    : 0;
+  if (face_columns > 0) reject_face_feet(cloud, config, face_columns, result);
   return result;
 }
 

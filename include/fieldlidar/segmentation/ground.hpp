@@ -58,6 +58,21 @@ struct RobustGroundConfig {
   /// vegetation rather than ground (0 = off).
   double max_roughness_m = 0.0;
   double near_range_m = 12.0;  ///< sensor height estimated from cells nearer than this
+  /// Foot-of-a-face test over azimuth columns: two returns of one column, neighbours in
+  /// elevation, that rise at least face_min_rise_m at more than face_steep_deg from the
+  /// horizontal lie on an object's face (trunk, hedge, shrub base), so the upper one is not
+  /// ground, nor the lower one when the pair is steeper than face_foot_deg.
+  /// Azimuth columns of the test; 0 = test off; -1 = SensorModel::columns for sensors of up to
+  /// 32 rings (VLP-16, HDL-32E: sparse rings, where vegetation bases pass the plane tests), off
+  /// for denser ones.
+  int face_columns = -1;
+  double face_steep_deg = 60.0;  ///< rise over horizontal spacing of a face (deg)
+  double face_foot_deg = 80.0;   ///< the lower return too when the pair is this steep (deg)
+  /// Smaller rises are left alone (m): on the dense beams of a 64-ring sensor, grass tufts and
+  /// clods rise steeply over a few centimetres between rings (0.3 m measured best on RELLIS-3D
+  /// and the simulated scenes together).
+  double face_min_rise_m = 0.30;
+  int face_neighbours = 2;  ///< returns above each one compared with it
 };
 
 struct GroundConfig {
