@@ -16,7 +16,7 @@ cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DFIELDLIDAR_SANITIZE
   -DFIELDLIDAR_BUILD_BENCHMARKS=OFF -DFIELDLIDAR_WERROR=ON >/dev/null
 cmake --build build/asan -j "$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  LSAN_OPTIONS=suppressions="$PWD/tests/lsan.supp" \
+  LSAN_OPTIONS=suppressions="$PWD/tests/lsan.supp":print_suppressions=0 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "slow|fuzz" -E "^CliFollow\."
 
 if command -v clang++ >/dev/null; then
