@@ -133,7 +133,9 @@ PointCloud from_pcl_cloud2(const pcl::PCLPointCloud2& blob, const std::string& s
     if (size == 0 || f.offset + size * std::max<std::uint32_t>(f.count, 1) > blob.point_step)
       throw Error(source + ": field '" + f.name + "' has an unsupported type or lies outside the " +
                   std::to_string(blob.point_step) + "-byte point");
-    views.push_back({f.name, f.datatype, blob.data.data() + f.offset, blob.point_step});
+    // An empty cloud has no data buffer to point into.
+    const std::uint8_t* base = blob.data.empty() ? nullptr : blob.data.data() + f.offset;
+    views.push_back({f.name, f.datatype, base, blob.point_step});
   }
   return from_field_views(views, blob.width, blob.height, source);
 }

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <fstream>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -47,6 +48,7 @@ void check_header(std::string_view text, std::uint64_t file_size, const std::str
   std::size_t pos = text.find('\n') + 1;
   int format = -1;  // 0 ascii, 1 binary
   std::vector<PlyElement> elements;
+  std::optional<std::uint64_t> num_cols, num_rows;  // obj_info organized size
   bool ended = false;
   while (!ended) {
     const auto eol = text.find('\n', pos);
@@ -55,7 +57,19 @@ void check_header(std::string_view text, std::uint64_t file_size, const std::str
     pos = eol + 1;
     if (tok.empty()) continue;
     const auto key = tok[0];
-    if (key == "comment" || key == "obj_info") continue;
+    if (key == "comment") continue;
+    if (key == "obj_info") {
+      // PCL takes num_cols x num_rows as the organized size of the vertex list and aborts when
+      // the vertex count does not fit it, so both must be whole numbers matching that count.
+      if (tok.size() >= 3 && (tok[1] == "num_cols" || tok[1] == "num_rows")) {
+        std::uint64_t v = 0;
+        const auto [p, ec] = std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), v);
+        if (ec != std::errc() || p != tok[2].data() + tok[2].size() || tok.size() != 3)
+          fail(source, "obj_info " + std::string(tok[1]) + " is not a whole number");
+        (tok[1] == "num_cols" ? num_cols : num_rows) = v;
+      }
+      continue;
+    }
     if (key == "format" && tok.size() == 3 && format < 0) {
       if (tok[2] != "1.0") fail(source, "version '" + std::string(tok[2]) + "' is not 1.0");
       if (tok[1] == "ascii")
@@ -106,6 +120,11 @@ void check_header(std::string_view text, std::uint64_t file_size, const std::str
     need += e.count * item;
     if (e.name == "vertex") {
       vertex = true;
+      if ((num_cols || num_rows) &&
+          (!num_cols || !num_rows || *num_rows == 0 || *num_cols > e.count / *num_rows ||
+           *num_cols * *num_rows != e.count))
+        fail(source, "obj_info num_cols x num_rows does not match the " + std::to_string(e.count) +
+                         " vertices");
       if (e.has_list) fail(source, "vertex element has a list property (meshes are not read)");
       for (const char* axis : {"x", "y", "z"})
         if (std::find(e.properties.begin(), e.properties.end(), axis) == e.properties.end())

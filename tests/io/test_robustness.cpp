@@ -149,6 +149,27 @@ TEST(Robustness, TruncatedPlyIsAnError) {
   }
 }
 
+TEST(Robustness, PlyOrganizedSizeMustMatchTheVertexCount) {
+  // PCL aborts the process when obj_info num_cols x num_rows does not fit the vertex list (found
+  // by fuzzing); the reader must refuse such a header before PCL sees it.
+  const auto dir = test::temp_dir("robust_ply_objinfo");
+  const std::string body =
+      "element vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n0 0 1\n1 0 1\n2 0 1\n";
+  for (const std::string& info :
+       {std::string("obj_info num_cols 2\nobj_info num_rows 1\n"),
+        std::string("obj_info num_cols 3\n"),
+        std::string("obj_info num_cols 3x\nobj_info num_rows 1\n"),
+        std::string("obj_info num_cols 4294967296\nobj_info num_rows 4294967296\n")}) {
+    write_bytes(dir / "bad.ply", text_bytes("ply\nformat ascii 1.0\n" + info + body));
+    expect_error_naming([&] { io::read_ply(dir / "bad.ply"); }, "bad.ply", info);
+  }
+  write_bytes(dir / "good.ply", text_bytes("ply\nformat ascii 1.0\nobj_info num_cols 3\n"
+                                           "obj_info num_rows 1\n" +
+                                           body));
+  EXPECT_EQ(io::read_ply(dir / "good.ply").size(), 3u);
+}
+
 TEST(Robustness, WrongMagicIsAnError) {
   const auto dir = test::temp_dir("robust_magic");
   const auto junk = text_bytes("GIF89a this is a picture, not a point cloud\n\x01\x02\x03");
