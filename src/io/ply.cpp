@@ -53,9 +53,19 @@ void check_header(std::string_view text, std::uint64_t file_size, const std::str
   while (!ended) {
     const auto eol = text.find('\n', pos);
     if (eol == std::string_view::npos) fail(source, "header has no end_header (truncated?)");
-    const auto tok = detail::split_tokens(text.substr(pos, eol - pos));
+    std::string_view line = text.substr(pos, eol - pos);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    const auto tok = detail::split_tokens(line);
     pos = eol + 1;
     if (tok.empty()) continue;
+    // PCL's header parser splits lines differently from ours and asserts on what it does not
+    // expect, so only lines of single-space separated words are passed on to it.
+    std::size_t words = 0;
+    for (const auto& t : tok) words += t.size();
+    if (line.front() == ' ' || line.front() == '\t' ||
+        (tok[0] != "comment" && line.size() != words + tok.size() - 1))
+      fail(source, "header line '" + std::string(line.substr(0, 60)) +
+                       "' is not words separated by single spaces");
     const auto key = tok[0];
     if (key == "comment") continue;
     if (key == "obj_info") {

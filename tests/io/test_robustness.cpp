@@ -164,6 +164,9 @@ TEST(Robustness, PlyOrganizedSizeMustMatchTheVertexCount) {
     write_bytes(dir / "bad.ply", text_bytes("ply\nformat ascii 1.0\n" + info + body));
     expect_error_naming([&] { io::read_ply(dir / "bad.ply"); }, "bad.ply", info);
   }
+  // PCL's parser asserts on an obj_info line with leading white space (found by fuzzing).
+  write_bytes(dir / "space.ply", text_bytes("ply\nformat ascii 1.0\n obj_info is_mesh 0\n" + body));
+  expect_error_naming([&] { io::read_ply(dir / "space.ply"); }, "space.ply", "leading space");
   write_bytes(dir / "good.ply", text_bytes("ply\nformat ascii 1.0\nobj_info num_cols 3\n"
                                            "obj_info num_rows 1\n" +
                                            body));
