@@ -58,7 +58,7 @@ TEST(StaticBackground, StillObjectsBecomeBackgroundWalkersDoNot) {
   const std::vector<Eigen::Vector2d> post{{2.0, 1.0}, {2.02, 1.01}};
   for (int k = 0; k < 40; ++k) {
     std::vector<Eigen::Vector2d> scan = post;
-    scan.emplace_back(-3.0 + 0.1 * k, 2.0);         // a walker at 1 m/s (10 Hz)
+    scan.emplace_back(-3.0 + 0.1 * k, 2.0);  // a walker at 1 m/s (10 Hz)
     if (k == 10) {
       EXPECT_FALSE(bg.is_static(post));  // still warming up
     }
