@@ -26,6 +26,18 @@ std::string sizes_seen(const std::map<std::size_t, std::size_t>& sizes) {
   return s.empty() ? "no UDP datagrams" : s;
 }
 
+/// A finished sweep of a capture as a Frame (stamp = the sweep's own stamp).
+Frame sweep_frame(PointCloud cloud, bool complete, std::size_t index,
+                  const std::filesystem::path& capture) {
+  Frame f;
+  f.cloud = std::move(cloud);
+  f.stamp_s = f.cloud.stamp_s;
+  f.complete = complete;
+  f.index = index;
+  f.topic = capture.string();
+  return f;
+}
+
 class VelodynePcapSource final : public FrameSource {
  public:
   VelodynePcapSource(const std::filesystem::path& path, std::optional<VelodyneModel> model)
@@ -35,15 +47,8 @@ class VelodynePcapSource final : public FrameSource {
 
   std::optional<Frame> next() override {
     for (;;) {
-      if (auto s = assembler_.pop()) {
-        Frame f;
-        f.cloud = std::move(s->cloud);
-        f.stamp_s = f.cloud.stamp_s;
-        f.complete = s->complete;
-        f.index = index_++;
-        f.topic = reader_.path().string();
-        return f;
-      }
+      if (auto s = assembler_.pop())
+        return sweep_frame(std::move(s->cloud), s->complete, index_++, reader_.path());
       if (done_) return std::nullopt;
       auto d = reader_.next();
       if (!d) {
@@ -92,15 +97,8 @@ class OusterPcapSource final : public FrameSource {
 
   std::optional<Frame> next() override {
     for (;;) {
-      if (auto of = assembler_.pop()) {
-        Frame f;
-        f.cloud = std::move(of->cloud);
-        f.stamp_s = f.cloud.stamp_s;
-        f.complete = of->complete;
-        f.index = index_++;
-        f.topic = reader_.path().string();
-        return f;
-      }
+      if (auto of = assembler_.pop())
+        return sweep_frame(std::move(of->cloud), of->complete, index_++, reader_.path());
       if (done_) return std::nullopt;
       auto d = reader_.next();
       if (!d) {
