@@ -227,7 +227,7 @@ void SegmentSamples::append(const SegmentSamples& o) {
 void collect_segment_samples(std::span<const Eigen::Vector2d> ordered,
                              std::span<const Eigen::Vector2d> truth, double range_min_m,
                              double range_max_m, double jump_m, double match_radius_m,
-                             double far_radius_m, SegmentSamples& out) {
+                             double far_radius_m, SegmentSamples& out, bool negatives) {
   std::vector<Eigen::Vector2d> pts;
   for (const auto& p : ordered) {
     const double r = p.norm();
@@ -239,7 +239,7 @@ void collect_segment_samples(std::span<const Eigen::Vector2d> ordered,
     mean /= double(e - b);
     double nearest = std::numeric_limits<double>::infinity();
     for (const auto& t : truth) nearest = std::min(nearest, (t - mean).norm());
-    if (nearest > match_radius_m && nearest <= far_radius_m) continue;
+    if (nearest > match_radius_m && (nearest <= far_radius_m || !negatives)) continue;
     out.features.push_back(segment_features(pts, b, e));
     out.is_leg.push_back(nearest <= match_radius_m ? 1 : 0);
   }

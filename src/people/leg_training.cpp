@@ -23,7 +23,8 @@ MatchCounts& MatchCounts::operator+=(const MatchCounts& o) {
 }
 
 MatchCounts match_points(std::span<const Eigen::Vector2d> det,
-                         std::span<const Eigen::Vector2d> truth, double radius) {
+                         std::span<const Eigen::Vector2d> truth, double radius,
+                         std::vector<char>* matched) {
   struct Pair {
     double d;
     std::size_t a, b;
@@ -43,6 +44,7 @@ MatchCounts match_points(std::span<const Eigen::Vector2d> det,
     ++m.true_positive;
   }
   m.false_positive = det.size() - m.true_positive;
+  if (matched) matched->assign(used_d.begin(), used_d.end());
   m.false_negative = truth.size() - m.true_positive;
   return m;
 }

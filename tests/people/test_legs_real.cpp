@@ -60,9 +60,12 @@ TEST(LegsReal, FiguresOfTheSeedAndEachAddition) {
 namespace fieldlidar::people {
 namespace {
 
-// Measured (see the figures test): seed alone with trained bounds recall 0.969 / precision 0.079 /
-// 2.96 false persons per scan; the shipped config recall 0.820 / precision 0.442 / 0.915 per scan.
-// The targets (0.90 / 0.90 / 0.02) are not met; these bounds catch regressions.
+// Per-scan detection with the seed's bounds, no classifier and no tracking (precision inside the
+// annotated region, legs_data.hpp). Measured (see the figures test): seed alone with trained
+// bounds recall 0.969 / precision 0.971 / 2.96 false persons per scan; the shipped bounds config
+// recall 0.820 / precision 0.972 / 0.915 per scan. Per scan, bounds cannot reach 0.02 false
+// persons per scan: LegPipeline2D (test_legs_classifier_real.cpp) does. These bounds catch
+// regressions.
 TEST(LegsReal, ShippedConfigFigures) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d/positive_1_extracted.bag");
   FIELDLIDAR_REQUIRE_DATA("legs_2d/negative_2.bag");
@@ -70,14 +73,14 @@ TEST(LegsReal, ShippedConfigFigures) {
   const auto neg = test::negative_scans();
   const auto shipped = test::score_legs(default_2d_legs(), pos, neg);
   EXPECT_GE(shipped.recall, 0.81);
-  EXPECT_GE(shipped.precision, 0.43);
+  EXPECT_GE(shipped.precision, 0.96);
   EXPECT_LE(shipped.false_persons_per_scan, 0.93);
   const auto seed = test::score_legs(seed_only(default_2d_legs()), pos, neg);
   EXPECT_GE(seed.recall, 0.96);
-  EXPECT_GE(seed.precision, 0.075);
+  EXPECT_GE(seed.precision, 0.96);
   EXPECT_LE(seed.false_persons_per_scan, 3.0);
-  // The additions trade recall for precision: they must buy at least a factor 5 in precision.
-  EXPECT_GT(shipped.precision, 5 * seed.precision);
+  // The additions trade leg recall for fewer false persons: at least a factor 3 fewer.
+  EXPECT_LT(3 * shipped.false_persons_per_scan, seed.false_persons_per_scan);
 }
 
 TEST(LegsReal, TrainingReproducesTheShippedBounds) {

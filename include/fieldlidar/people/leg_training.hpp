@@ -20,8 +20,11 @@ struct MatchCounts {
   double recall() const;
   MatchCounts& operator+=(const MatchCounts& o);
 };
+/// One-to-one matching, closest pairs first, within `radius_m`. `matched`, when given, receives
+/// one flag per detection (1 = matched to a truth point).
 MatchCounts match_points(std::span<const Eigen::Vector2d> detections,
-                         std::span<const Eigen::Vector2d> truth, double radius_m);
+                         std::span<const Eigen::Vector2d> truth, double radius_m,
+                         std::vector<char>* matched = nullptr);
 
 /// An arc with its label: a leg when its midpoint is within the match radius of a truth leg.
 struct LabelledArc {

@@ -1,0 +1,119 @@
+#pragma once
+/// \file Legs and people in a stream of 2D laser scans (seed 000, steps 3-5, for one ring):
+/// per-scan leg segments, leg tracks that carry evidence from scan to scan, and person tracks
+/// reported only once they walk.
+///
+/// One scan alone cannot tell a leg from a chair leg or a table post: real rooms are full of
+/// leg-shaped furniture, and furniture comes in pairs. Over time they differ: furniture stays
+/// where it is in the world (or, for parts of the robot itself, in the sensor frame), people
+/// move. Per scan:
+///   1. ego-motion: the sensor pose in a fixed frame, given by the caller (odometry) or estimated
+///      by scan matching (ScanOdometry2D) when none is given;
+///   2. segments (jump split) scored by the learned classifier, or the seed's bound tests when no
+///      classifier is set; segments on the static background (world frame: furniture; sensor
+///      frame: the robot's own body) are dropped;
+///   3. candidates (score above `candidate_score_min`) feed a leg tracker; a candidate is a leg
+///      when its score passes the classifier threshold, or when it continues a leg track whose
+///      accumulated evidence is positive (a leg seen well in the last scans is still a leg when
+///      it is half occluded or seen edge-on now);
+///   4. legs closer than dist_max pair into person detections, tracked by PersonTracker in the
+///      fixed frame; a person is reported once its track is confirmed and has moved at least
+///      `person_min_travel_m` from where it was first seen (a person is something leg-shaped
+///      that walks), and from then on while tracked.
+/// Positions: sensor frame (x forward, y left) unless named `_world`; metres, seconds.
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "fieldlidar/people/leg_detector.hpp"
+#include "fieldlidar/people/scan_matcher_2d.hpp"
+#include "fieldlidar/people/static_background.hpp"
+#include "fieldlidar/people/tracker.hpp"
+
+namespace fieldlidar::people {
+
+struct LegPipeline2DConfig {
+  LegDetectorConfig detector = default_2d_legs();
+  /// Estimate the ego-motion by scan matching when process() gets no pose.
+  bool estimate_ego_motion = true;
+  ScanMatcher2DConfig scan_matcher;
+  StaticBackgroundConfig background;
+  /// Classifier score a segment needs to be tracked as a possible leg (below the classifier's
+  /// own threshold, so that a track can carry a leg through a few weak scans).
+  double candidate_score_min = -3.0;
+  /// Leg-track evidence: e <- decay * e + (score - threshold) at each update; a candidate whose
+  /// track had e > 0 before this scan is a leg even with a score below the threshold.
+  double evidence_decay = 0.7;
+  /// Leg tracks: legs swing at up to ~4 m/s, scans come at 7-40 Hz.
+  TrackerConfig leg_tracker = [] {
+    TrackerConfig t;
+    t.accel_sigma_m_s2 = 6.0;
+    t.measurement_sigma_m = 0.05;
+    t.gate_max_m = 0.45;
+    t.confirm_hits = 2;
+    t.tentative_max_miss_s = 0.3;
+    t.delete_after_miss_s = 0.5;
+    t.birth_min_separation_m = 0.0;
+    t.max_speed_m_s = 6.0;
+    return t;
+  }();
+  /// Person tracks: confirmed after 5 paired-leg detections (0.5 s at 10 Hz).
+  TrackerConfig person_tracker = [] {
+    TrackerConfig t;
+    t.confirm_hits = 5;
+    return t;
+  }();
+  /// A person track is reported once it has moved this far from its first detection (m).
+  double person_min_travel_m = 1.0;
+};
+
+struct PipelineLeg {
+  Eigen::Vector2d position_m = Eigen::Vector2d::Zero();  ///< sensor frame
+  double score = 0;         ///< classifier score minus its threshold (bounds: +1 pass)
+  std::int64_t track = -1;  ///< leg track id
+};
+
+struct PipelinePerson {
+  Eigen::Vector2d position_m = Eigen::Vector2d::Zero();        ///< sensor frame, this scan
+  Eigen::Vector2d position_world_m = Eigen::Vector2d::Zero();  ///< fixed frame
+  std::uint32_t track = 0;                                     ///< person track id
+};
+
+struct LegPipeline2DOutput {
+  std::vector<PipelineLeg> legs;
+  std::vector<PipelinePerson> people;  ///< confirmed persons that have walked
+  /// Paired leg detections of this scan before the person tracker (seed 000, step 3 output).
+  std::size_t person_detections = 0;
+  Eigen::Isometry2d pose = Eigen::Isometry2d::Identity();  ///< sensor -> fixed frame
+  bool ego_motion_ok = true;  ///< false when scan matching failed on this scan
+};
+
+class LegPipeline2D {
+ public:
+  explicit LegPipeline2D(LegPipeline2DConfig config = {});
+  /// One scan: `points` in beam order, sensor frame (non-finite points allowed, ignored).
+  /// `pose` is the sensor pose in a fixed frame (odometry); without it the ego-motion is
+  /// estimated by scan matching (or taken as still when estimate_ego_motion is false).
+  /// Stamps must not decrease.
+  LegPipeline2DOutput process(double stamp_s, std::span<const Eigen::Vector2d> points,
+                              const std::optional<Eigen::Isometry2d>& pose = std::nullopt);
+  const PersonTracker& person_tracker() const { return persons_; }
+  PersonTracker& person_tracker() { return persons_; }
+  const LegPipeline2DConfig& config() const { return config_; }
+
+ private:
+  LegPipeline2DConfig config_;
+  ScanOdometry2D odometry_;
+  StaticBackground world_background_, sensor_background_;
+  PersonTracker legs_, persons_;
+  std::unordered_map<std::uint32_t, double> leg_evidence_;
+  std::unordered_map<std::uint32_t, Eigen::Vector2d> person_first_;
+  std::unordered_map<std::uint32_t, bool> person_walked_;
+};
+
+}  // namespace fieldlidar::people
