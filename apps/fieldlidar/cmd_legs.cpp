@@ -1,5 +1,7 @@
 // fieldlidar legs INPUT: leg and person detection (seed 000, steps 2-5) on 2D laser scans (one
 // ring) or 3D sweeps, with tracking, written as CSV; optional scoring against annotated legs.
+// 2D scans go through people::LegPipeline2D (learned classifier, leg tracks, ego-motion by scan
+// matching, persons once they walk); 3D sweeps through the follow pipeline's perception.
 
 #include <cmath>
 #include <cstdio>
@@ -18,6 +20,7 @@
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/io/rosbag_reader.hpp"
 #include "fieldlidar/people/leg_training.hpp"
+#include "fieldlidar/people/legs_2d_pipeline.hpp"
 #include "fieldlidar/people/tracker.hpp"
 
 namespace fieldlidar::app {
@@ -34,9 +37,20 @@ struct LegsOptions {
   std::string truth_topic;
   std::string sensor;
   double match_radius_m = 0.15;
+  std::vector<double> truth_wedge;  ///< bearing min, max (deg), range max (m)
   bool seed_only = false;
+  bool still = false;
   bool force = false;
 };
+
+/// The shipped 2D config: installed next to the binary's prefix, else the source tree's.
+std::string default_2d_config() {
+  for (const char* dir : {FIELDLIDAR_INSTALL_CONFIG_DIR, FIELDLIDAR_SOURCE_CONFIG_DIR}) {
+    const fs::path p = fs::path(dir) / "legs_2d.yaml";
+    if (fs::exists(p)) return p.string();
+  }
+  return {};
+}
 
 std::string read_text(const fs::path& p) {
   std::ifstream in(p);
@@ -50,12 +64,13 @@ void run_legs(const LegsOptions& o) {
   const fs::path out(o.out);
   io::check_writable(out, o.force);
   people::LegDetectorConfig legs = people::default_2d_legs();
-  if (!o.config.empty()) {
-    legs = people::legs_config_from_yaml(read_text(o.config), o.config, legs);
+  const std::string config_path = o.config.empty() ? default_2d_config() : o.config;
+  if (!config_path.empty()) {
+    legs = people::legs_config_from_yaml(read_text(config_path), config_path, legs);
     if (!legs.classifier_file.empty()) {
       // The learned classifier lives next to the config (legs-train writes both).
       fs::path model(legs.classifier_file);
-      if (model.is_relative()) model = fs::path(o.config).parent_path() / model;
+      if (model.is_relative()) model = fs::path(config_path).parent_path() / model;
       legs.classifier = std::make_shared<const people::LegClassifier>(
           people::leg_classifier_from_yaml(read_text(model), model.string()));
     }
@@ -79,7 +94,10 @@ void run_legs(const LegsOptions& o) {
   people::PersonTracker tracker(tc);
   follow::FollowConfig follow_cfg;
   std::optional<SensorModel> sensor;
-  people::StaticBackground background;  // 2D: the sensor is assumed still
+  people::LegPipeline2DConfig pipeline_config;
+  pipeline_config.detector = legs;
+  pipeline_config.estimate_ego_motion = !o.still;
+  people::LegPipeline2D pipeline(pipeline_config);
 
   std::string csv = "stamp,kind,x,y,track_id\n";
   std::size_t frames = 0, legs_total = 0, persons_total = 0, scored = 0;
@@ -88,16 +106,19 @@ void run_legs(const LegsOptions& o) {
   while (auto frame = source->next()) {
     ++frames;
     std::vector<Eigen::Vector2d> leg_pos, person_pos;
+    std::vector<long long> person_id;
     if (frame->cloud.ring_count() <= 1) {
-      // A 2D scan is one ring: points in beam order.
+      // A 2D scan is one ring: points in beam order. Persons are the pipeline's tracked people.
       std::vector<Eigen::Vector2d> pts;
       pts.reserve(frame->cloud.size());
       for (const auto& p : frame->cloud.points)
         if (p.is_valid()) pts.emplace_back(p.x, p.y);
-      const auto det = people::detect_legs_2d(pts, legs, &background);
-      background.update(pts);
+      const auto det = pipeline.process(frame->stamp_s, pts);
       for (const auto& l : det.legs) leg_pos.push_back(l.position_m);
-      for (const auto& p : det.people) person_pos.push_back(p.position_m);
+      for (const auto& p : det.people) {
+        person_pos.push_back(p.position_m);
+        person_id.push_back(p.track);
+      }
     } else {
       if (!sensor) {
         sensor = source->sensor();
@@ -108,38 +129,55 @@ void run_legs(const LegsOptions& o) {
       follow_cfg.legs = o.config.empty() ? follow::FollowConfig::default_3d_legs() : legs;
       const auto per = follow::perceive(frame->cloud, *sensor, Pose::Identity(), follow_cfg);
       leg_pos = per.legs_m;
-      person_pos = per.people_m;
+      // Tracking in the sensor frame (the sensor is assumed still); confirmed tracks only.
+      const auto upd = tracker.update(frame->stamp_s, per.people_m);
+      for (std::size_t i = 0; i < per.people_m.size(); ++i) {
+        const auto id = upd.track_of_detection[i];
+        const auto* t = id >= 0 ? tracker.find(std::uint32_t(id)) : nullptr;
+        if (!t || !t->confirmed) continue;
+        person_pos.push_back(per.people_m[i]);
+        person_id.push_back(id);
+      }
     }
-    // Tracking in the sensor frame (the sensor is assumed still).
-    const auto upd = tracker.update(frame->stamp_s, person_pos);
     for (const auto& l : leg_pos) {
       std::snprintf(buf, sizeof buf, "%.6f,leg,%.4f,%.4f,-1\n", frame->stamp_s, l.x(), l.y());
       csv += buf;
     }
     for (std::size_t i = 0; i < person_pos.size(); ++i) {
-      const auto id = upd.track_of_detection[i];
-      const auto* t = id >= 0 ? tracker.find(std::uint32_t(id)) : nullptr;
       std::snprintf(buf, sizeof buf, "%.6f,person,%.4f,%.4f,%lld\n", frame->stamp_s,
-                    person_pos[i].x(), person_pos[i].y(),
-                    static_cast<long long>(t && t->confirmed ? id : -1));
+                    person_pos[i].x(), person_pos[i].y(), person_id[i]);
       csv += buf;
     }
     legs_total += leg_pos.size();
     persons_total += person_pos.size();
     if (frame->index < truth.size()) {
-      counts += people::match_points(leg_pos, truth[frame->index], o.match_radius_m);
+      std::vector<char> matched;
+      auto m = people::match_points(leg_pos, truth[frame->index], o.match_radius_m, &matched);
+      if (o.truth_wedge.size() == 3)
+        for (std::size_t i = 0; i < leg_pos.size(); ++i) {
+          const double bearing = std::atan2(leg_pos[i].y(), leg_pos[i].x()) * 180.0 / M_PI;
+          const bool inside = leg_pos[i].norm() <= o.truth_wedge[2] &&
+                              bearing >= o.truth_wedge[0] && bearing <= o.truth_wedge[1];
+          if (!matched[i] && !inside) --m.false_positive;  // not annotated there: not scored
+        }
+      counts += m;
       ++scored;
     }
   }
   io::write_file_atomic(out, csv.data(), csv.size(), o.force);
-  fmt::print("legs: {} scans, {} legs, {} person detections ({:.4f} per scan)\n", frames,
-             legs_total, persons_total, frames ? double(persons_total) / double(frames) : 0.0);
+  fmt::print("legs: {} scans, {} legs, {} tracked persons ({:.4f} per scan)\n", frames, legs_total,
+             persons_total, frames ? double(persons_total) / double(frames) : 0.0);
   if (!o.truth_topic.empty())
     fmt::print(
-        "legs vs {} ({} annotated scans, match {:.2f} m): recall {:.4f}, precision {:.4f} "
+        "legs vs {} ({} annotated scans, match {:.2f} m{}): recall {:.4f}, precision {:.4f} "
         "(tp {}, fp {}, fn {})\n",
-        o.truth_topic, scored, o.match_radius_m, counts.recall(), counts.precision(),
-        counts.true_positive, counts.false_positive, counts.false_negative);
+        o.truth_topic, scored, o.match_radius_m,
+        o.truth_wedge.size() == 3
+            ? fmt::format(", precision inside bearing {}..{} deg, range <= {} m", o.truth_wedge[0],
+                          o.truth_wedge[1], o.truth_wedge[2])
+            : std::string(),
+        counts.recall(), counts.precision(), counts.true_positive, counts.false_positive,
+        counts.false_negative);
   fmt::print("wrote {}\n", out.string());
 }
 
@@ -152,13 +190,29 @@ void add_legs_command(CLI::App& app) {
   cmd->add_option("input", o->input, "Bag, capture or cloud files")->required();
   cmd->add_option("--topic", o->topic, "Bag topic of the scans");
   cmd->add_option("--out", o->out, "Detections CSV (stamp,kind,x,y,track_id)")->required();
-  cmd->add_option("--config", o->config, "Leg detector YAML (from legs-train)");
+  cmd->add_option("--config", o->config,
+                  "Leg detector YAML (from legs-train; default for 2D scans: the shipped "
+                  "config/legs_2d.yaml with its learned classifier)");
   cmd->add_option("--truth", o->truth_topic,
                   "PoseArray topic of annotated legs: print recall and precision");
   cmd->add_option("--match-radius", o->match_radius_m, "Match distance for --truth (m)")
       ->capture_default_str();
+  cmd->add_option(
+         "--truth-wedge", o->truth_wedge,
+         "The region where --truth annotates every leg: BEARING_MIN BEARING_MAX (deg) "
+         "RANGE_MAX (m); unmatched legs outside it are not scored (legs_2d bags: -15 15 5)")
+      ->expected(3)
+      ->check([](const std::string& v) {
+        try {
+          return std::isfinite(std::stod(v)) ? std::string() : "must be finite";
+        } catch (...) {
+          return std::string("must be a number");
+        }
+      });
   cmd->add_option("--sensor", o->sensor, "Sensor preset for 3D input without sensor metadata");
-  cmd->add_flag("--seed-only", o->seed_only, "Only the seed's tests (no additions)");
+  cmd->add_flag("--seed-only", o->seed_only, "Only the seed's tests (no additions, no classifier)");
+  cmd->add_flag("--still", o->still,
+                "2D: the sensor does not move (no ego-motion estimation by scan matching)");
   cmd->add_flag("--force", o->force, "Overwrite the output file");
   cmd->callback([o] { run_legs(*o); });
 }

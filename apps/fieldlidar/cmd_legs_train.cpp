@@ -80,7 +80,7 @@ constexpr double kFarFromLegM = 0.5;
 void collect(const std::string& bag, const std::string& topic,
              const std::vector<io::PoseArraySample>& truth, const people::LegDetectorConfig& base,
              double radius, std::vector<people::LabelledArc>& arcs, std::vector<double>& pairs,
-             std::size_t& scans, people::SegmentSamples& samples) {
+             std::size_t& scans, people::SegmentSamples& samples, bool annotated) {
   io::SourceOptions so;
   so.topic = topic;
   auto src = io::FrameSource::open(bag, so);
@@ -94,10 +94,12 @@ void collect(const std::string& bag, const std::string& topic,
         legs.emplace_back(pose.translation().x(), pose.translation().y());
     const auto a = people::label_arcs_2d(pts, legs, base, radius);
     arcs.insert(arcs.end(), a.begin(), a.end());
-    // Classifier samples: segments matched to an annotation are legs; those farther than 0.5 m
-    // from every annotation are not (a leg split in two, or both legs in one segment, is left out).
+    // Classifier samples: segments matched to an annotation are legs. Annotated bags label legs
+    // inside a region only (people walk outside it unannotated), so their other segments are not
+    // used; the non-leg samples come from the people-free bags (every segment is one there).
     people::collect_segment_samples(pts, legs, base.range_min_m, base.range_max_m,
-                                    base.segment_jump_m, radius, kFarFromLegM, samples);
+                                    base.segment_jump_m, radius, kFarFromLegM, samples,
+                                    /*negatives=*/!annotated);
     const auto d = people::leg_pair_distances(legs);
     pairs.insert(pairs.end(), d.begin(), d.end());
   }
@@ -122,14 +124,14 @@ void run_train(const TrainOptions& o) {
   std::size_t pos_scans = 0, neg_scans = 0;
   for (const auto& bag : o.positive)
     collect(bag, o.scan_topic, io::read_pose_arrays(bag, o.truth_topic), base, o.match_radius_m,
-            arcs, pairs, pos_scans, samples);
+            arcs, pairs, pos_scans, samples, true);
   for (const auto& bag : o.negative) {
     std::vector<std::string> topics = o.negative_topics;
     if (topics.empty())
       for (const auto& t : io::bag_topics(bag))
         if (t.datatype == "sensor_msgs/LaserScan") topics.push_back(t.name);
     for (const auto& t : topics)
-      collect(bag, t, {}, base, o.match_radius_m, arcs, pairs, neg_scans, samples);
+      collect(bag, t, {}, base, o.match_radius_m, arcs, pairs, neg_scans, samples, false);
   }
   if (sim3d) {
     const auto model = SensorModel::preset(o.sensor);
@@ -153,7 +155,11 @@ void run_train(const TrainOptions& o) {
   std::string model_yaml;
   fs::path model_path;
   std::size_t model_legs = 0;
-  if (!sim3d && o.classifier) {
+  if (!sim3d && o.classifier && o.negative.empty())
+    fmt::print(
+        "legs-train: no --negative bags: the leg classifier needs scans without people, it is "
+        "not trained (the config uses the bounds)\n");
+  if (!sim3d && o.classifier && !o.negative.empty()) {
     model_legs = std::size_t(std::count(samples.is_leg.begin(), samples.is_leg.end(), char(1)));
     if (model_legs == 0 || model_legs == samples.is_leg.size())
       throw Error("legs-train: the classifier needs leg and other segments; got " +

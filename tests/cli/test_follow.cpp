@@ -71,20 +71,32 @@ namespace fieldlidar {
 namespace {
 
 TEST(CliLegs, DetectionsCsvAndTrainedConfigRoundTrip) {
-  const std::string bag = "legs_2d/positive_2_extracted.bag";
+  const std::string train_bag = "legs_2d/positive_2_extracted.bag";
+  const std::string bag = "legs_2d/positive_1_extracted.bag";
+  const std::string negative = "legs_2d/negative_2.bag";
+  FIELDLIDAR_REQUIRE_DATA(train_bag);
   FIELDLIDAR_REQUIRE_DATA(bag);
+  FIELDLIDAR_REQUIRE_DATA(negative);
   const auto dir = test::temp_dir("cli_legs");
   const auto yaml = (dir / "legs.yaml").string();
-  auto r =
-      test::run_cli("legs-train --positive " + test::data_file(bag).string() + " --out " + yaml);
+  auto r = test::run_cli("legs-train --positive " + test::data_file(train_bag).string() +
+                         " --negative " + test::data_file(negative).string() +
+                         " --negative-topic /rear_scan --out " + yaml);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(slurp(yaml).find("curve_max:"), std::string::npos);
+  EXPECT_NE(slurp(yaml).find("classifier_file: \"legs_classifier.yaml\""), std::string::npos);
+  EXPECT_NE(slurp((dir / "legs_classifier.yaml").string()).find("leg_classifier:"),
+            std::string::npos);
+  // Held out: trained on bag 2 and one negative topic, run on bag 1.
   const auto csv = (dir / "detections.csv").string();
   r = test::run_cli("legs " + test::data_file(bag).string() +
-                    " --topic /training_scan --truth /leg_cluster_positions --config " + yaml +
-                    " --out " + csv);
+                    " --topic /training_scan --truth /leg_cluster_positions --truth-wedge -15 15 5"
+                    " --config " +
+                    yaml + " --out " + csv);
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("recall"), std::string::npos);
+  const auto at = r.output.find("recall ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_GT(std::stod(r.output.substr(at + 7)), 0.7) << r.output;  // measured 0.762
   std::istringstream in(slurp(csv));
   std::string line;
   std::getline(in, line);
@@ -100,8 +112,8 @@ TEST(CliLegs, DetectionsCsvAndTrainedConfigRoundTrip) {
     persons += kind == "person";
     ASSERT_TRUE(kind == "leg" || kind == "person") << line;
   }
-  EXPECT_GT(legs, 83u);  // 83 scans, about 1.4 annotated legs each
-  EXPECT_GT(persons, 0u);
+  EXPECT_GT(legs, 197u);  // 197 scans, about 1.6 annotated legs each
+  EXPECT_GT(persons, 10u);
   r = test::run_cli("legs " + test::data_file(bag).string() + " --topic /training_scan --out " +
                     csv);
   EXPECT_EQ(r.exit_code, 1);  // exists, no --force
