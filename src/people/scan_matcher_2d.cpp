@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include <Eigen/Eigenvalues>
 #include <nanoflann.hpp>
 
 namespace fieldlidar::people {
@@ -36,26 +37,57 @@ std::vector<Eigen::Vector2d> thin(std::span<const Eigen::Vector2d> scan, double 
   return out;
 }
 
-/// Closed-form 2D rigid alignment (Umeyama without scale) of pairs b_i ~ R a_i + t.
-Eigen::Isometry2d align(const std::vector<Eigen::Vector2d>& a,
-                        const std::vector<Eigen::Vector2d>& b) {
-  Eigen::Vector2d ca = Eigen::Vector2d::Zero(), cb = Eigen::Vector2d::Zero();
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    ca += a[i];
-    cb += b[i];
+/// Unit normals of the target points from their neighbours within `radius_m` (the smallest
+/// principal axis); zero where the neighbourhood is not a line (corners, lone points).
+std::vector<Eigen::Vector2d> normals_of(const Cloud2& cloud, const KdTree2& tree, double radius_m) {
+  std::vector<Eigen::Vector2d> normals(cloud.pts.size(), Eigen::Vector2d::Zero());
+  std::vector<std::pair<std::uint32_t, double>> found;
+  for (std::size_t i = 0; i < cloud.pts.size(); ++i) {
+    found.clear();
+    tree.radiusSearch(cloud.pts[i].data(), radius_m * radius_m, found, nanoflann::SearchParams());
+    if (found.size() < 3) continue;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto& f : found) mean += cloud.pts[f.first];
+    mean /= double(found.size());
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (const auto& f : found) {
+      const Eigen::Vector2d d = cloud.pts[f.first] - mean;
+      cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+    if (es.eigenvalues()[0] > 0.05 * es.eigenvalues()[1]) continue;  // not a line
+    normals[i] = es.eigenvectors().col(0);
   }
-  ca /= double(a.size());
-  cb /= double(b.size());
-  double sxx = 0, sxy = 0;  // sum of dot and cross products of the centred pairs
+  return normals;
+}
+
+/// One Gauss-Newton step of point-to-line (point-to-point where a target has no normal) error
+/// for a small motion [dx, dy, dtheta] applied to the source points `a` matched to targets.
+Eigen::Isometry2d solve_step(const std::vector<Eigen::Vector2d>& a,
+                             const std::vector<Eigen::Vector2d>& b,
+                             const std::vector<Eigen::Vector2d>& n) {
+  Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  auto add_row = [&](const Eigen::Vector3d& j, double r) {
+    h += j * j.transpose();
+    g += j * r;
+  };
   for (std::size_t i = 0; i < a.size(); ++i) {
-    const Eigen::Vector2d p = a[i] - ca, q = b[i] - cb;
-    sxx += p.dot(q);
-    sxy += p.x() * q.y() - p.y() * q.x();
+    const Eigen::Vector2d& p = a[i];
+    const Eigen::Vector2d e = p - b[i];
+    const Eigen::Vector2d dp(-p.y(), p.x());  // d(R p)/d theta at theta = 0
+    if (n[i].squaredNorm() > 0) {
+      add_row(Eigen::Vector3d(n[i].x(), n[i].y(), n[i].dot(dp)), n[i].dot(e));
+    } else {
+      add_row(Eigen::Vector3d(1, 0, dp.x()), e.x());
+      add_row(Eigen::Vector3d(0, 1, dp.y()), e.y());
+    }
   }
-  const double theta = std::atan2(sxy, sxx);
+  h += 1e-9 * Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d x = -h.ldlt().solve(g);
   Eigen::Isometry2d t = Eigen::Isometry2d::Identity();
-  t.linear() = Eigen::Rotation2Dd(theta).toRotationMatrix();
-  t.translation() = cb - t.linear() * ca;
+  t.linear() = Eigen::Rotation2Dd(x[2]).toRotationMatrix();
+  t.translation() = x.head<2>();
   return t;
 }
 
@@ -71,13 +103,15 @@ ScanMatch match_scans_2d(std::span<const Eigen::Vector2d> previous,
   if (target.pts.size() < 10 || source.size() < 10) return m;
   KdTree2 tree(2, target, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   tree.buildIndex();
-  std::vector<Eigen::Vector2d> a, b;
+  const auto normals = normals_of(target, tree, 3.0 * c.subsample_m);
+  std::vector<Eigen::Vector2d> a, b, n;
   a.reserve(source.size());
   b.reserve(source.size());
   double limit = std::max(c.max_correspondence_m, c.min_correspondence_m);
   for (int it = 0; it < c.max_iterations; ++it) {
     a.clear();
     b.clear();
+    n.clear();
     for (const auto& p : source) {
       const Eigen::Vector2d q = m.transform * p;
       std::uint32_t idx = 0;
@@ -88,11 +122,12 @@ ScanMatch match_scans_2d(std::span<const Eigen::Vector2d> previous,
       if (d2 <= limit * limit) {
         a.push_back(q);
         b.push_back(target.pts[idx]);
+        n.push_back(normals[idx]);
       }
     }
     m.iterations = it + 1;
     if (a.size() < 10) break;
-    const Eigen::Isometry2d step = align(a, b);
+    const Eigen::Isometry2d step = solve_step(a, b, n);
     m.transform = step * m.transform;
     const double dt = step.translation().norm();
     const double dr = std::abs(Eigen::Rotation2Dd(step.linear()).angle());

@@ -1,5 +1,5 @@
 #pragma once
-/// \file Ego-motion of a 2D laser from its own scans: trimmed point-to-point ICP between
+/// \file Ego-motion of a 2D laser from its own scans: trimmed point-to-line ICP between
 /// consecutive scans. For recordings without odometry (a bag of scans only): the person tracker
 /// and the static background need detections in a fixed frame, and a moving robot sees its
 /// furniture move in the sensor frame. With wheel odometry or a SLAM pose available, use that.

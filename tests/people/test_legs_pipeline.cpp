@@ -1,0 +1,157 @@
+// Scan matching and LegPipeline2D on synthetic 2D scans with exact geometry: a room with
+// furniture legs, seen from a moving sensor, and a person walking through it.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "fieldlidar/people/legs_2d_pipeline.hpp"
+#include "fieldlidar/people/scan_matcher_2d.hpp"
+#include "synthetic_scan.hpp"
+
+namespace fieldlidar::people {
+namespace {
+
+using test::Circle;
+using test::Wall;
+
+/// A 12 x 8 m room (world frame) with a table's four legs and a post.
+struct Room {
+  std::vector<Wall> walls{{{-4, -4}, {8, -4}},
+                          {{8, -4}, {8, 4}},
+                          {{8, 4}, {-4, 4}},
+                          {{-4, 4}, {-4, -4}},
+                          {{2, 1.5}, {3.5, 2.5}}};
+  std::vector<Circle> furniture{{{3.0, -1.0}, 0.03},
+                                {{3.45, -1.0}, 0.03},
+                                {{3.0, -1.6}, 0.03},
+                                {{3.45, -1.6}, 0.03},
+                                {{5.0, 1.0}, 0.06}};
+};
+
+/// The scan seen from sensor pose `pose` (sensor -> world) of world circles and walls.
+std::vector<Eigen::Vector2d> scan_from(const Eigen::Isometry2d& pose, const Room& room,
+                                       const std::vector<Circle>& extra = {}) {
+  const Eigen::Isometry2d inv = pose.inverse();
+  std::vector<Circle> circles;
+  for (const auto& c : room.furniture) circles.push_back({inv * c.center, c.radius});
+  for (const auto& c : extra) circles.push_back({inv * c.center, c.radius});
+  std::vector<Wall> walls;
+  for (const auto& w : room.walls) walls.push_back({inv * w.a, inv * w.b});
+  return test::cast_scan(circles, walls, 0.33 * M_PI / 180, 1.5 * M_PI);
+}
+
+Eigen::Isometry2d pose2(double x, double y, double yaw) {
+  Eigen::Isometry2d t = Eigen::Isometry2d::Identity();
+  t.translate(Eigen::Vector2d(x, y));
+  t.rotate(yaw);
+  return t;
+}
+
+TEST(ScanMatcher2D, RecoversAKnownMotion) {
+  const Room room;
+  const auto a = pose2(0, 0, 0), b = pose2(0.12, -0.05, 0.06);
+  const auto sa = scan_from(a, room), sb = scan_from(b, room);
+  const auto m = match_scans_2d(sa, sb, Eigen::Isometry2d::Identity(), {});
+  ASSERT_TRUE(m.ok);
+  const Eigen::Isometry2d truth = a.inverse() * b;  // current -> previous
+  EXPECT_NEAR((m.transform.translation() - truth.translation()).norm(), 0.0, 0.01);
+  EXPECT_NEAR(Eigen::Rotation2Dd(m.transform.linear()).angle(), 0.06, 0.003);
+  EXPECT_GT(m.inlier_fraction, 0.9);
+}
+
+TEST(ScanMatcher2D, RefusesUnrelatedScansAndKeepsTheGuess) {
+  const Room room;
+  const auto sa = scan_from(pose2(0, 0, 0), room);
+  std::vector<Eigen::Vector2d> far;  // a lone wall nowhere near
+  for (int i = 0; i < 200; ++i) far.emplace_back(40.0, -5.0 + 0.05 * i);
+  const auto guess = pose2(0.1, 0, 0);
+  const auto m = match_scans_2d(sa, far, guess, {});
+  EXPECT_FALSE(m.ok);
+  EXPECT_TRUE(m.transform.isApprox(guess));
+  // Too few points: refused, no crash.
+  EXPECT_FALSE(match_scans_2d(sa, std::vector<Eigen::Vector2d>(3, {1, 1}), guess, {}).ok);
+  std::vector<Eigen::Vector2d> nan(50, {std::nan(""), 1.0});
+  EXPECT_FALSE(match_scans_2d(sa, nan, guess, {}).ok);
+}
+
+TEST(ScanOdometry2D, TracksADrivenPath) {
+  const Room room;
+  ScanOdometry2D odo;
+  Eigen::Isometry2d truth = Eigen::Isometry2d::Identity();
+  for (int k = 0; k < 40; ++k) {
+    truth = pose2(0.05 * k, 0.3 * std::sin(0.1 * k), 0.02 * k);
+    odo.add(scan_from(truth, room));
+  }
+  EXPECT_EQ(odo.failed_matches(), 0u);
+  EXPECT_LT((odo.pose().translation() - truth.translation()).norm(), 0.05);
+}
+
+/// Two legs of a walking person at time t (world frame): the body moves along +y at 1 m/s from
+/// (1.5, -2), the legs swing +-0.2 m around it along the walking direction.
+std::vector<Circle> walker(double t) {
+  const Eigen::Vector2d body(1.5, -2.0 + 1.0 * t);
+  const double swing = 0.2 * std::sin(2 * M_PI * 0.9 * t);
+  return {{body + Eigen::Vector2d(-0.1, swing), 0.06}, {body + Eigen::Vector2d(0.1, -swing), 0.06}};
+}
+
+LegPipeline2DConfig bounds_config() {
+  LegPipeline2DConfig c;
+  c.detector = default_2d_legs();  // bounds only: no classifier in the library defaults
+  c.person_min_travel_m = 1.0;
+  return c;
+}
+
+TEST(LegPipeline2D, AWalkerIsAPersonFurnitureIsNotWhileTheSensorMoves) {
+  const Room room;
+  LegPipeline2D pipeline(bounds_config());
+  std::size_t walker_reports = 0, false_reports = 0, scans_after_walk = 0;
+  std::set<std::uint32_t> ids;
+  Eigen::Isometry2d first = Eigen::Isometry2d::Identity();
+  for (int k = 0; k < 45; ++k) {
+    const double t = 0.1 * k;
+    const auto sensor = pose2(-1.0 + 0.08 * k, 0.0, 0.03 * k);  // the robot drives and turns
+    if (k == 0) first = sensor;
+    const auto legs = walker(t);
+    const auto out = pipeline.process(t, scan_from(sensor, room, legs));
+    // The pipeline's fixed frame is the sensor frame of the first scan.
+    const Eigen::Vector2d body = first.inverse() * (0.5 * (legs[0].center + legs[1].center));
+    if (t > 1.6) ++scans_after_walk;
+    for (const auto& p : out.people) {
+      if ((p.position_world_m - body).norm() < 0.4) {
+        ++walker_reports;
+        ids.insert(p.track);
+        EXPECT_LT((first.inverse() * (sensor * p.position_m) - body).norm(), 0.4);
+      } else {
+        ++false_reports;
+      }
+    }
+  }
+  EXPECT_EQ(false_reports, 0u);  // the table's leg pairs never become a person
+  EXPECT_GT(walker_reports, scans_after_walk / 2);
+  EXPECT_EQ(ids.size(), 1u);
+}
+
+TEST(LegPipeline2D, NothingBeforeThePersonWalks) {
+  const Room room;
+  LegPipeline2D pipeline(bounds_config());
+  for (int k = 0; k < 20; ++k) {  // standing still, legs apart
+    const std::vector<Circle> legs{{{2.0, -0.15}, 0.06}, {{2.0, 0.15}, 0.06}};
+    EXPECT_TRUE(pipeline.process(0.1 * k, scan_from(Eigen::Isometry2d::Identity(), room, legs))
+                    .people.empty());
+  }
+}
+
+TEST(LegPipeline2D, EmptyAndInvalidScans) {
+  LegPipeline2D pipeline(bounds_config());
+  EXPECT_TRUE(pipeline.process(0.0, {}).legs.empty());
+  std::vector<Eigen::Vector2d> junk(100, {std::numeric_limits<double>::infinity(), 0.0});
+  const auto out = pipeline.process(0.1, junk);
+  EXPECT_TRUE(out.legs.empty());
+  EXPECT_TRUE(out.pose.matrix().allFinite());
+}
+
+}  // namespace
+}  // namespace fieldlidar::people
