@@ -5,9 +5,13 @@
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
 
 #include "fieldlidar/follow/pipeline.hpp"
 #include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/people/legs_2d_pipeline.hpp"
 #include "fieldlidar/people/tracker.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/scenes.hpp"
@@ -116,5 +120,54 @@ void BM_Legs2D_RealScan(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Legs2D_RealScan)->Unit(benchmark::kMicrosecond);
+
+/// LegPipeline2D per scan (shipped classifier, scan-matched ego-motion, leg and person tracks)
+/// on the moving robot's scans of negative_2.bag, and the scan matching alone.
+void pipeline_2d(benchmark::State& state, bool matching_only) {
+  const auto bag =
+      std::filesystem::path(FIELDLIDAR_DEFAULT_DATA_DIR) / "legs_2d" / "negative_2.bag";
+  const auto model = std::filesystem::path(__FILE__).parent_path().parent_path() / "config" /
+                     "legs_2d_classifier.yaml";
+  if (!std::filesystem::exists(bag) || !std::filesystem::exists(model)) {
+    state.SkipWithError("legs_2d data or config/legs_2d_classifier.yaml absent");
+    return;
+  }
+  std::vector<std::vector<Eigen::Vector2d>> scans;
+  auto src = io::FrameSource::open(bag, {"/right_scan", {}});
+  while (auto fr = src->next()) {
+    auto& v = scans.emplace_back();
+    for (const auto& p : fr->cloud.points) v.emplace_back(p.x, p.y);
+  }
+  std::ifstream in(model);
+  std::stringstream text;
+  text << in.rdbuf();
+  people::LegPipeline2DConfig cfg;
+  cfg.detector.classifier = std::make_shared<const people::LegClassifier>(
+      people::leg_classifier_from_yaml(text.str(), model.string()));
+  std::optional<people::LegPipeline2D> pipeline;
+  people::ScanOdometry2D odometry;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    if (k % scans.size() == 0) {  // restart at the end of the bag: stamps must not decrease
+      pipeline.emplace(cfg);
+      odometry = people::ScanOdometry2D();
+    }
+    const auto& s = scans[k % scans.size()];
+    if (matching_only)
+      benchmark::DoNotOptimize(odometry.add(s));
+    else
+      benchmark::DoNotOptimize(pipeline->process(0.1 * double(k % scans.size()), s));
+    ++k;
+  }
+  state.counters["points/scan"] = double(scans.front().size());
+}
+void BM_LegPipeline2D_RealScan(benchmark::State& s) {
+  pipeline_2d(s, false);
+}
+void BM_ScanMatching2D_RealScan(benchmark::State& s) {
+  pipeline_2d(s, true);
+}
+BENCHMARK(BM_LegPipeline2D_RealScan)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ScanMatching2D_RealScan)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
