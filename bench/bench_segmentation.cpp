@@ -96,6 +96,8 @@ BENCHMARK_CAPTURE(BM_Ground, kitti_robust, "kitti", GroundMethod::kRobust)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Ground, os128_robust, "os128", GroundMethod::kRobust)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ground, vlp16_robust, "vlp16-sim", GroundMethod::kRobust)
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Ground, rellis_seed000, "rellis", GroundMethod::kSeed000)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Ground, kitti_seed000, "kitti", GroundMethod::kSeed000)

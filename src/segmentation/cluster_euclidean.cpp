@@ -99,6 +99,7 @@ class ColumnTable {  // open addressing: (ix, iy) -> column id
     keys_.assign(cap, 0);
     values_.assign(cap, -1);
     mask_ = cap - 1;
+    while ((std::size_t(1) << bits_) < cap) ++bits_;
   }
   static std::uint64_t key(std::int32_t ix, std::int32_t iy) {
     return (std::uint64_t(std::uint32_t(ix)) << 32) | std::uint32_t(iy);
@@ -121,12 +122,15 @@ class ColumnTable {  // open addressing: (ix, iy) -> column id
   }
 
  private:
+  // Fibonacci hashing: the top bits of the product depend on every bit of ix and iy (middle bits
+  // would see little of ix, which sits in the high word, and neighbouring columns would collide).
   std::size_t hash(std::uint64_t k) const {
-    return std::size_t((k * 0x9E3779B97F4A7C15ull) >> 20) & mask_;
+    return std::size_t((k * 0x9E3779B97F4A7C15ull) >> (64 - bits_));
   }
   std::vector<std::uint64_t> keys_;
   std::vector<std::int32_t> values_;
   std::size_t mask_ = 0;
+  int bits_ = 0;
 };
 
 std::vector<std::int32_t> components_grid(const ActiveCloud& data, double tolerance, float r2,

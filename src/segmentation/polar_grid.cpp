@@ -33,6 +33,8 @@ PolarCells PolarGrid::assign(const PointCloud& cloud) const {
   PolarCells out;
   const std::size_t n = cloud.size();
   std::vector<std::uint32_t> cell_of(n, std::uint32_t(-1));
+  std::vector<std::uint16_t> azimuth_of(n);
+  std::vector<float> rho_of(n);
   out.offsets.assign(cell_count() + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
     const Point& p = cloud.points[i];
@@ -40,20 +42,29 @@ PolarCells PolarGrid::assign(const PointCloud& cloud) const {
     const float r = std::sqrt(p.x * p.x + p.y * p.y);
     const int b = bin_of(r);
     if (b < 0) continue;
-    const auto c = std::uint32_t(cell(b, sector_of(p.x, p.y)));
+    const std::uint16_t az = azimuth_code(p.x, p.y);
+    const auto c = std::uint32_t(cell(b, sector_of_azimuth(az)));
     cell_of[i] = c;
+    azimuth_of[i] = az;
+    rho_of[i] = r;
     ++out.offsets[c + 1];
   }
   for (std::size_t c = 0; c < cell_count(); ++c) out.offsets[c + 1] += out.offsets[c];
   out.order.resize(out.offsets.back());
   std::vector<std::uint32_t> fill(out.offsets.begin(), out.offsets.end() - 1);
   out.xyz.resize(out.offsets.back());
+  out.azimuth.resize(out.offsets.back());
+  out.ring.resize(out.offsets.back());
+  out.rho.resize(out.offsets.back());
   for (std::size_t i = 0; i < n; ++i)
     if (cell_of[i] != std::uint32_t(-1)) {
       const std::uint32_t k = fill[cell_of[i]]++;
       out.order[k] = std::uint32_t(i);
       const Point& p = cloud.points[i];
       out.xyz[k] = {p.x, p.y, p.z};
+      out.azimuth[k] = azimuth_of[i];
+      out.ring[k] = p.ring;
+      out.rho[k] = rho_of[i];
     }
   return out;
 }

@@ -43,6 +43,10 @@ struct PolarCells {
   std::vector<std::uint32_t> offsets;  ///< cell_count + 1
   std::vector<std::uint32_t> order;    ///< point indices grouped by cell
   std::vector<CellPoint> xyz;          ///< coordinates in `order`
+  /// Azimuth of each point in `order`, atan2(y, x) + pi in 1/65536 turns (0 = -x axis).
+  std::vector<std::uint16_t> azimuth;
+  std::vector<std::uint16_t> ring;  ///< Point::ring of each point in `order`
+  std::vector<float> rho;           ///< m, horizontal range of each point in `order`
   std::span<const std::uint32_t> members(std::size_t c) const {
     return {order.data() + offsets[c], order.data() + offsets[c + 1]};
   }
@@ -72,10 +76,14 @@ class PolarGrid {
     return b;
   }
   /// Sector of a direction (x, y) (need not be normalised).
-  int sector_of(float x, float y) const {
-    const float a = fast_atan2(y, x) + 3.14159265f;
-    const int s = int(a * (float(sectors_) / 6.28318531f));
-    return s < 0 ? 0 : (s >= sectors_ ? sectors_ - 1 : s);
+  int sector_of(float x, float y) const { return sector_of_azimuth(azimuth_code(x, y)); }
+  /// atan2(y, x) + pi in 1/65536 turns.
+  static std::uint16_t azimuth_code(float x, float y) {
+    const float a = (fast_atan2(y, x) + 3.14159265f) * (65536.f / 6.28318531f);
+    return std::uint16_t(a < 0.f ? 0.f : (a > 65535.f ? 65535.f : a));
+  }
+  int sector_of_azimuth(std::uint16_t code) const {
+    return int((std::uint32_t(code) * std::uint32_t(sectors_)) >> 16);
   }
   /// Valid points within range, sorted by cell.
   PolarCells assign(const PointCloud& cloud) const;

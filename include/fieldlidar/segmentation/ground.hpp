@@ -73,6 +73,16 @@ struct RobustGroundConfig {
   /// and the simulated scenes together).
   double face_min_rise_m = 0.30;
   int face_neighbours = 2;  ///< returns above each one compared with it
+  /// Undercut test of the same columns: when the return above a ground return rises by
+  /// face_back_rise_m to face_back_top_m and comes back towards the sensor (its horizontal range
+  /// minus the lower one's is within [-face_back_reach_m, face_back_run_m]), the beam above
+  /// struck the overhanging flank of a bush or hedge and both returns are that object's, not
+  /// ground: over open ground the horizontal range grows by metres from one downward ring to the
+  /// next. Branches and canopy overhead rise more and reach farther, and are left alone.
+  double face_back_rise_m = 0.06;  ///< m, smallest rise (sensor noise stays well below it)
+  double face_back_top_m = 0.6;    ///< m, largest rise
+  double face_back_run_m = -0.03;  ///< m, the upper return at least this much nearer
+  double face_back_reach_m = 0.3;  ///< m, and at most this much nearer
 };
 
 struct GroundConfig {
