@@ -113,6 +113,7 @@ class FaceTests {
         back_top_(float(config.face_back_top_m)),
         back_run_(float(config.face_back_run_m)),
         back_reach_(float(config.face_back_reach_m)),
+        back_flat_(float(config.face_back_flat_m)),
         k_max_(std::max(1, config.face_neighbours)) {}
 
   void column(std::span<const ColumnReturn> col, const std::vector<std::uint8_t>& is_ground,
@@ -127,7 +128,10 @@ class FaceTests {
         const float run = up.rho - lo.rho;
         if (rise >= back_rise_ && rise <= back_top_ && run <= back_run_ && run >= -back_reach_) {
           if (is_ground[up.index]) feet.push_back(up.index);
-          if (is_ground[lo.index]) feet.push_back(lo.index);
+          // Flat ground running on under the overhang: the lower return continues the return
+          // below it at the same height.
+          const bool flat_run = a > 0 && std::abs(lo.z - col[a - 1].z) <= back_flat_;
+          if (is_ground[lo.index] && !flat_run) feet.push_back(lo.index);
           continue;
         }
         if (rise < min_rise_ || std::abs(run) > rise * cot_steep_) continue;
@@ -138,7 +142,7 @@ class FaceTests {
   }
 
  private:
-  float cot_steep_, cot_foot_, min_rise_, back_rise_, back_top_, back_run_, back_reach_;
+  float cot_steep_, cot_foot_, min_rise_, back_rise_, back_top_, back_run_, back_reach_, back_flat_;
   int k_max_;
 };
 

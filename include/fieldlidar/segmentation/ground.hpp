@@ -83,6 +83,9 @@ struct RobustGroundConfig {
   double face_back_top_m = 0.6;    ///< m, largest rise
   double face_back_run_m = -0.03;  ///< m, the upper return at least this much nearer
   double face_back_reach_m = 0.3;  ///< m, and at most this much nearer
+  /// m: the lower return stays ground when it lies within this height of the return below it in
+  /// the column (flat ground running on under an overhang); < 0: never.
+  double face_back_flat_m = 0.03;
 };
 
 struct GroundConfig {
