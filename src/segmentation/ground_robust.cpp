@@ -29,18 +29,61 @@ struct CellFit {
   bool upright = true;
   CellState state = CellState::kEmpty;
 
+  float gx = 0.f, gy = 0.f, g0 = 0.f;  ///< plane as z = -(gx x + gy y + g0)
+
   /// Height of (x, y, z) above the cell's ground plane, along z (m).
   template <class P>
   float height_above(const P& p) const {
-    return (normal.x() * p.x + normal.y() * p.y + normal.z() * p.z + d) / normal.z();
+    return gx * p.x + gy * p.y + p.z + g0;
   }
 };
 
+struct SmallestEigen {
+  double value = 0, second_value = 0;                 ///< the two smallest eigenvalues, >= 0
+  Eigen::Vector3d vector = Eigen::Vector3d::UnitZ();  ///< unit eigenvector of `value`
+};
+
+// Smallest eigenpair of a symmetric positive semi-definite 3x3 matrix without trigonometry
+// (Eigen's closed form spends most of its time in acos/cos/sin): Newton's method on the
+// characteristic polynomial from 0 climbs monotonically to the smallest root, the second one
+// follows from the other coefficients, the vector from cross products of (C - l1 I)'s rows.
+SmallestEigen smallest_eigen(const Eigen::Matrix3d& c) {
+  const double c1 = c.trace();
+  const double c2 = c(0, 0) * c(1, 1) - c(0, 1) * c(0, 1) + c(0, 0) * c(2, 2) - c(0, 2) * c(0, 2) +
+                    c(1, 1) * c(2, 2) - c(1, 2) * c(1, 2);
+  const double c3 = c.determinant();
+  SmallestEigen out;
+  // p(l) = det(C - l I) = -l^3 + c1 l^2 - c2 l + c3, convex left of its smallest root.
+  double l = 0;
+  for (int it = 0; it < 100 && c3 > 0; ++it) {
+    const double p = ((-l + c1) * l - c2) * l + c3;
+    const double dp = (-3 * l + 2 * c1) * l - c2;
+    if (!(dp < 0)) break;
+    const double step = p / dp;
+    l -= step;
+    if (std::abs(step) <= 1e-15 * c1) break;
+  }
+  out.value = std::max(l, 0.0);
+  const double s = c1 - out.value, q = c2 - out.value * s;  // l2 + l3 and l2 * l3
+  out.second_value = std::max(0.0, 0.5 * (s - std::sqrt(std::max(0.0, s * s - 4 * q))));
+  const Eigen::Matrix3d m = c - out.value * Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d v01 = m.row(0).cross(m.row(1)), v02 = m.row(0).cross(m.row(2)),
+                        v12 = m.row(1).cross(m.row(2));
+  const double n01 = v01.squaredNorm(), n02 = v02.squaredNorm(), n12 = v12.squaredNorm();
+  const double best = std::max({n01, n02, n12});
+  if (best > 1e-30 * c1 * c1 * c1 * c1) {
+    out.vector = (n01 == best ? v01 : n02 == best ? v02 : v12) / std::sqrt(best);
+  } else {  // repeated smallest eigenvalue: any vector of its eigenspace will do
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+    es.computeDirect(c);
+    out.vector = es.eigenvectors().col(0);
+  }
+  return out;
+}
+
 // PCA of the cell's low points (within seed_band_m of its lowest return).
-void fit_cell(std::span<const CellPoint> members, double seed_band_m, float max_cos, float cx,
-              float cy, CellFit& fit) {
-  float z_min = std::numeric_limits<float>::max();
-  for (const CellPoint& p : members) z_min = std::min(z_min, p.z);
+void fit_cell(std::span<const CellPoint> members, float z_min, double seed_band_m, float max_cos,
+              float cx, float cy, CellFit& fit) {
   fit.z_min = z_min;
   const float band = z_min + float(seed_band_m);
   // Moments about the lowest return (small numbers, no cancellation): 3 sums, 6 products.
@@ -70,22 +113,23 @@ void fit_cell(std::span<const CellPoint> members, double seed_band_m, float max_
     Eigen::Matrix3d cov;
     cov << xx, xy, xz, xy, yy, yz, xz, yz, zz;
     cov = cov / n - local_mean * local_mean.transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-    es.computeDirect(cov);
-    const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(0.0);
+    const SmallestEigen es = smallest_eigen(cov);
     // Points on a single scan line span one direction only: the plane is undetermined, keep it
     // horizontal through their mean.
-    if (std::sqrt(ev(1)) > 0.04) {
-      Eigen::Vector3d nrm = es.eigenvectors().col(0);
+    if (std::sqrt(es.second_value) > 0.04) {
+      Eigen::Vector3d nrm = es.vector;
       if (nrm.z() < 0) nrm = -nrm;
       fit.normal = nrm.cast<float>();
-      fit.flatness = float(std::sqrt(ev(0)));
+      fit.flatness = float(std::sqrt(es.value));
       fit.upright = fit.normal.z() >= max_cos;
     }
   }
   if (!fit.upright) fit.normal = {0.f, 0.f, 1.f};
   fit.d = -fit.normal.cast<double>().dot(mean);
   fit.elevation = -(fit.normal.x() * cx + fit.normal.y() * cy + fit.d) / fit.normal.z();
+  fit.gx = fit.normal.x() / fit.normal.z();
+  fit.gy = fit.normal.y() / fit.normal.z();
+  fit.g0 = fit.d / fit.normal.z();
 }
 
 // Foot-of-a-face test: returns of one azimuth column ordered by elevation (z / horizontal range
@@ -254,10 +298,10 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   for (int s = 0; s < grid.sectors(); ++s)
     for (int b = 0; b < grid.bins() && grid.bin_centre_m(b) < config.near_range_m; ++b) {
       if (grid.bin_centre_m(b) < 1.5f) continue;
-      const CellPoint* low = nullptr;
-      for (const CellPoint& p : cells.points(grid.cell(b, s)))
-        if (!low || p.z < low->z) low = &p;
-      if (low && low->z < 0.f) lows.emplace_back(low->x, low->y, low->z);
+      const std::size_t c = grid.cell(b, s);
+      if (cells.offsets[c] == cells.offsets[c + 1]) continue;
+      const CellPoint& low = cells.xyz[cells.lowest[c]];
+      if (low.z < 0.f) lows.emplace_back(low.x, low.y, low.z);
     }
   NearGroundPlane prior = fit_plane_to_lows(lows, max_slope_rad);
   if (!prior.found) prior.c = -(sensor.mounting_height_m > 0 ? sensor.mounting_height_m : 1.0);
@@ -281,7 +325,8 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       if (members.empty()) continue;
       const float r_mid = grid.bin_centre_m(b);
       CellFit& fit = fits[c];
-      fit_cell(members, config.seed_band_m, max_cos, r_mid * ca, r_mid * sa, fit);
+      fit_cell(members, cells.xyz[cells.lowest[c]].z, config.seed_band_m, max_cos, r_mid * ca,
+               r_mid * sa, fit);
       double predicted, tolerance;
       if (anchored) {
         const double dr = r_mid - ref_r;

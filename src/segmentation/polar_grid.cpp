@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace fieldlidar::segmentation {
@@ -56,9 +57,16 @@ PolarCells PolarGrid::assign(const PointCloud& cloud) const {
   out.azimuth.resize(out.offsets.back());
   out.ring.resize(out.offsets.back());
   out.rho.resize(out.offsets.back());
+  out.lowest.assign(cell_count(), 0);
+  std::vector<float> low_z(cell_count(), std::numeric_limits<float>::infinity());
   for (std::size_t i = 0; i < n; ++i)
     if (cell_of[i] != std::uint32_t(-1)) {
-      const std::uint32_t k = fill[cell_of[i]]++;
+      const std::uint32_t c = cell_of[i];
+      const std::uint32_t k = fill[c]++;
+      if (cloud.points[i].z < low_z[c]) {
+        low_z[c] = cloud.points[i].z;
+        out.lowest[c] = k;
+      }
       out.order[k] = std::uint32_t(i);
       const Point& p = cloud.points[i];
       out.xyz[k] = {p.x, p.y, p.z};

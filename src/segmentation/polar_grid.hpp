@@ -47,6 +47,8 @@ struct PolarCells {
   std::vector<std::uint16_t> azimuth;
   std::vector<std::uint16_t> ring;  ///< Point::ring of each point in `order`
   std::vector<float> rho;           ///< m, horizontal range of each point in `order`
+  /// Per cell, the position in `order` of its lowest return (the first of equals); 0 if empty.
+  std::vector<std::uint32_t> lowest;
   std::span<const std::uint32_t> members(std::size_t c) const {
     return {order.data() + offsets[c], order.data() + offsets[c + 1]};
   }
