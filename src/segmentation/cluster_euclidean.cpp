@@ -91,9 +91,11 @@ std::vector<std::int32_t> components_kdtree(const ActiveCloud& data, float r2, s
 // ---- voxel-cell search: cells of side tolerance/sqrt(3) (all points of a cell are linked),
 // union-find over cells, neighbouring cells (offsets up to +-2) linked by their first close pair.
 
-class ColumnTable {  // open addressing: (ix, iy) -> column id
+// (ix, iy) -> column id: a dense table near the origin (the sensor, where most returns are),
+// open addressing beyond it.
+class ColumnTable {
  public:
-  explicit ColumnTable(std::size_t expected) {
+  explicit ColumnTable(std::size_t expected) : dense_(std::size_t(kSide) * kSide, -1) {
     std::size_t cap = 64;
     while (cap < expected * 2) cap <<= 1;
     keys_.assign(cap, 0);
@@ -101,16 +103,21 @@ class ColumnTable {  // open addressing: (ix, iy) -> column id
     mask_ = cap - 1;
     while ((std::size_t(1) << bits_) < cap) ++bits_;
   }
-  static std::uint64_t key(std::int32_t ix, std::int32_t iy) {
-    return (std::uint64_t(std::uint32_t(ix)) << 32) | std::uint32_t(iy);
-  }
-  std::int32_t find(std::uint64_t k) const {
+  std::int32_t find(std::int32_t ix, std::int32_t iy) const {
+    if (in_dense(ix, iy)) return dense_[dense_index(ix, iy)];
+    const std::uint64_t k = key(ix, iy);
     for (std::size_t h = hash(k);; h = (h + 1) & mask_) {
       if (values_[h] < 0) return -1;
       if (keys_[h] == k) return values_[h];
     }
   }
-  std::int32_t insert(std::uint64_t k, std::int32_t next_id) {
+  std::int32_t insert(std::int32_t ix, std::int32_t iy, std::int32_t next_id) {
+    if (in_dense(ix, iy)) {
+      std::int32_t& v = dense_[dense_index(ix, iy)];
+      if (v < 0) v = next_id;
+      return v;
+    }
+    const std::uint64_t k = key(ix, iy);
     for (std::size_t h = hash(k);; h = (h + 1) & mask_) {
       if (values_[h] < 0) {
         keys_[h] = k;
@@ -122,11 +129,24 @@ class ColumnTable {  // open addressing: (ix, iy) -> column id
   }
 
  private:
+  static constexpr std::int32_t kHalf = 96;  // cells: +-28 m at the default 0.5 m tolerance
+  static constexpr std::int32_t kSide = 2 * kHalf;
+  static bool in_dense(std::int32_t ix, std::int32_t iy) {
+    return std::uint32_t(ix + kHalf) < std::uint32_t(kSide) &&
+           std::uint32_t(iy + kHalf) < std::uint32_t(kSide);
+  }
+  static std::size_t dense_index(std::int32_t ix, std::int32_t iy) {
+    return std::size_t(ix + kHalf) * kSide + std::size_t(iy + kHalf);
+  }
+  static std::uint64_t key(std::int32_t ix, std::int32_t iy) {
+    return (std::uint64_t(std::uint32_t(ix)) << 32) | std::uint32_t(iy);
+  }
   // Fibonacci hashing: the top bits of the product depend on every bit of ix and iy (middle bits
   // would see little of ix, which sits in the high word, and neighbouring columns would collide).
   std::size_t hash(std::uint64_t k) const {
     return std::size_t((k * 0x9E3779B97F4A7C15ull) >> (64 - bits_));
   }
+  std::vector<std::int32_t> dense_;
   std::vector<std::uint64_t> keys_;
   std::vector<std::int32_t> values_;
   std::size_t mask_ = 0;
@@ -156,7 +176,7 @@ std::vector<std::int32_t> components_grid(const ActiveCloud& data, double tolera
     const auto ix = std::int32_t(std::floor(double(p.x) * inv));
     const auto iy = std::int32_t(std::floor(double(p.y) * inv));
     iz_of[i] = std::int32_t(std::floor(double(p.z) * inv));
-    const std::int32_t id = table.insert(ColumnTable::key(ix, iy), std::int32_t(cix.size()));
+    const std::int32_t id = table.insert(ix, iy, std::int32_t(cix.size()));
     if (id == std::int32_t(cix.size())) {
       cix.push_back(ix);
       ciy.push_back(iy);
@@ -214,7 +234,7 @@ std::vector<std::int32_t> components_grid(const ActiveCloud& data, double tolera
     for (std::uint32_t a = c0; a < c1; ++a)
       for (std::uint32_t b = a + 1; b < c1 && cell_iz[b] - cell_iz[a] <= 2; ++b) try_link(a, b);
     for (const auto& off : kOffsets) {
-      const std::int32_t d = table.find(ColumnTable::key(cix[c] + off[0], ciy[c] + off[1]));
+      const std::int32_t d = table.find(cix[c] + off[0], ciy[c] + off[1]);
       if (d < 0) continue;
       const std::uint32_t d0 = col_cell[d], d1 = col_cell[d + 1];
       std::uint32_t lo = d0;
