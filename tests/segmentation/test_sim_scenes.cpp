@@ -30,7 +30,9 @@ struct Case {
   sim::SceneKind kind;
   const char* sensor;
   double t0_s;
-  double min_f1;  ///< regression bound just under the measured F1 (target 0.98)
+  /// The 0.98, or a tighter regression bound just under the measured F1 where that is
+  /// higher; the VLP-16 terrain frame, which misses 0.98, has a regression bound only.
+  double min_f1;
 };
 
 class SimGround : public ::testing::TestWithParam<Case> {};
@@ -44,13 +46,16 @@ TEST_P(SimGround, RobustF1) {
                             << " R " << s.recall;
 }
 
-// Regression bounds just under the measured F1 (the target is 0.98 on each).
+// Measured F1: lawn VLP-16 0.983, OS1-64 0.989; terrain VLP-16 0.970, HDL-32E 0.986; forest
+// VLP-16 0.981, OS1-64 0.991. The VLP-16 terrain frame misses the 0.98: its ditch walls
+// and a 25-30 deg hillside 40 m out are steeper than the ground the method accepts (22 deg, 6 deg
+// bend between cells), so they are left non-ground; its bound is a regression bound.
 INSTANTIATE_TEST_SUITE_P(Scenes, SimGround,
-                         ::testing::Values(Case{sim::SceneKind::kLawn, "vlp16", 1.0, 0.972},
+                         ::testing::Values(Case{sim::SceneKind::kLawn, "vlp16", 1.0, 0.98},
                                            Case{sim::SceneKind::kLawn, "os1-64", 4.0, 0.986},
-                                           Case{sim::SceneKind::kTerrain, "vlp16", 1.0, 0.965},
-                                           Case{sim::SceneKind::kTerrain, "hdl32e", 6.0, 0.982},
-                                           Case{sim::SceneKind::kForest, "vlp16", 1.0, 0.976},
+                                           Case{sim::SceneKind::kTerrain, "vlp16", 1.0, 0.968},
+                                           Case{sim::SceneKind::kTerrain, "hdl32e", 6.0, 0.984},
+                                           Case{sim::SceneKind::kForest, "vlp16", 1.0, 0.98},
                                            Case{sim::SceneKind::kForest, "os1-64", 5.0, 0.989}),
                          [](const auto& info) {
                            std::string s = sim::to_string(info.param.kind) + "_" +
