@@ -19,23 +19,26 @@ namespace {
 
 enum class CellState : std::uint8_t { kEmpty, kGround, kRejected };
 
+// What the passes after the fit need of a cell, kept small: the cells of a frame are swept
+// several times.
 struct CellFit {
-  Eigen::Vector3f normal{0.f, 0.f, 1.f};  ///< up-pointing unit normal of the low points
-  float d = 0.f;                          ///< plane: normal . p + d = 0
-  float z_min = 0.f;                      ///< m, lowest return of the cell
-  float elevation = 0.f;                  ///< m, plane height at the cell's centre
-  float predicted = 0.f;                  ///< m, ground height expected from the inner cells
-  float flatness = 0.f;                   ///< m, sqrt of the smallest eigenvalue
-  bool upright = true;
-  CellState state = CellState::kEmpty;
-
+  float elevation = 0.f;               ///< m, plane height at the cell's centre
+  float predicted = 0.f;               ///< m, ground height expected from the inner cells
   float gx = 0.f, gy = 0.f, g0 = 0.f;  ///< plane as z = -(gx x + gy y + g0)
+  CellState state = CellState::kEmpty;
 
   /// Height of (x, y, z) above the cell's ground plane, along z (m).
   template <class P>
   float height_above(const P& p) const {
     return gx * p.x + gy * p.y + p.z + g0;
   }
+};
+
+// The fit's own tests, used once.
+struct PlaneFit {
+  Eigen::Vector3f normal{0.f, 0.f, 1.f};  ///< up-pointing unit normal of the low points
+  float flatness = 0.f;                   ///< m, sqrt of the smallest eigenvalue
+  bool upright = true;
 };
 
 struct SmallestEigen {
@@ -82,9 +85,8 @@ SmallestEigen smallest_eigen(const Eigen::Matrix3d& c) {
 }
 
 // PCA of the cell's low points (within seed_band_m of its lowest return).
-void fit_cell(std::span<const CellPoint> members, float z_min, double seed_band_m, float max_cos,
-              float cx, float cy, CellFit& fit) {
-  fit.z_min = z_min;
+PlaneFit fit_cell(std::span<const CellPoint> members, float z_min, double seed_band_m,
+                  float max_cos, float cx, float cy, CellFit& fit) {
   const float band = z_min + float(seed_band_m);
   // Moments about the lowest return (small numbers, no cancellation): 3 sums, 6 products.
   const CellPoint& o = members.front();
@@ -106,9 +108,7 @@ void fit_cell(std::span<const CellPoint> members, float z_min, double seed_band_
   }
   const Eigen::Vector3d local_mean = Eigen::Vector3d(sx, sy, sz) / n;
   const Eigen::Vector3d mean = local_mean + Eigen::Vector3d(o.x, o.y, o.z);
-  fit.normal = {0.f, 0.f, 1.f};
-  fit.flatness = 0.f;
-  fit.upright = true;
+  PlaneFit out;
   if (n >= 4) {
     Eigen::Matrix3d cov;
     cov << xx, xy, xz, xy, yy, yz, xz, yz, zz;
@@ -119,17 +119,19 @@ void fit_cell(std::span<const CellPoint> members, float z_min, double seed_band_
     if (std::sqrt(es.second_value) > 0.04) {
       Eigen::Vector3d nrm = es.vector;
       if (nrm.z() < 0) nrm = -nrm;
-      fit.normal = nrm.cast<float>();
-      fit.flatness = float(std::sqrt(es.value));
-      fit.upright = fit.normal.z() >= max_cos;
+      out.normal = nrm.cast<float>();
+      out.flatness = float(std::sqrt(es.value));
+      out.upright = out.normal.z() >= max_cos;
     }
   }
-  if (!fit.upright) fit.normal = {0.f, 0.f, 1.f};
-  fit.d = -fit.normal.cast<double>().dot(mean);
-  fit.elevation = -(fit.normal.x() * cx + fit.normal.y() * cy + fit.d) / fit.normal.z();
-  fit.gx = fit.normal.x() / fit.normal.z();
-  fit.gy = fit.normal.y() / fit.normal.z();
-  fit.g0 = fit.d / fit.normal.z();
+  if (!out.upright) out.normal = {0.f, 0.f, 1.f};
+  const Eigen::Vector3f& nm = out.normal;
+  const float d = float(-nm.cast<double>().dot(mean));  // plane: normal . p + d = 0
+  fit.elevation = -(nm.x() * cx + nm.y() * cy + d) / nm.z();
+  fit.gx = nm.x() / nm.z();
+  fit.gy = nm.y() / nm.z();
+  fit.g0 = d / nm.z();
+  return out;
 }
 
 // Foot-of-a-face test: returns of one azimuth column ordered by elevation (z / horizontal range
@@ -325,8 +327,8 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       if (members.empty()) continue;
       const float r_mid = grid.bin_centre_m(b);
       CellFit& fit = fits[c];
-      fit_cell(members, cells.xyz[cells.lowest[c]].z, config.seed_band_m, max_cos, r_mid * ca,
-               r_mid * sa, fit);
+      const PlaneFit plane = fit_cell(members, cells.xyz[cells.lowest[c]].z, config.seed_band_m,
+                                      max_cos, r_mid * ca, r_mid * sa, fit);
       double predicted, tolerance;
       if (anchored) {
         const double dr = r_mid - ref_r;
@@ -338,14 +340,14 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       }
       fit.predicted = float(predicted);
       const bool continuous = std::abs(fit.elevation - predicted) <= tolerance;
-      const bool flat = fit.flatness <= config.max_flatness_m;
-      if (continuous && fit.upright && flat) {
+      const bool flat = plane.flatness <= config.max_flatness_m;
+      if (continuous && plane.upright && flat) {
         fit.state = CellState::kGround;
         anchored = true;
         ref_z = fit.elevation;
         ref_r = r_mid;
         // Radial gradient of the cell's plane, to follow a hill outward.
-        const double g = -(fit.normal.x() * ca + fit.normal.y() * sa) / fit.normal.z();
+        const double g = -(plane.normal.x() * ca + plane.normal.y() * sa) / plane.normal.z();
         ref_grad = std::clamp(g, -tan_slope, tan_slope);
       } else {
         fit.state = CellState::kRejected;
