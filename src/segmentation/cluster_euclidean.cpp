@@ -30,16 +30,6 @@ inline float squared_distance(const Xyz& a, const Xyz& b) {
   return dx * dx + dy * dy + dz * dz;
 }
 
-std::vector<std::uint32_t> active_points(const PointCloud& cloud,
-                                         std::span<const std::uint8_t> skip) {
-  std::vector<std::uint32_t> active;
-  active.reserve(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i)
-    if ((skip.empty() || !skip[i]) && valid_point(cloud.points[i]))
-      active.push_back(std::uint32_t(i));
-  return active;
-}
-
 // ---- k-d tree search (nanoflann), breadth-first growth as in the seed and in PCL ----
 
 struct ActiveCloud {
@@ -264,12 +254,17 @@ ClusterResult cluster_euclidean(const PointCloud& cloud, std::span<const std::ui
   if (!skip.empty() && skip.size() != cloud.size())
     throw Error("euclidean clustering: skip has " + std::to_string(skip.size()) +
                 " entries for a cloud of " + std::to_string(cloud.size()) + " points");
-  const auto active = active_points(cloud, skip);
+  // The points taking part, and their coordinates, in one pass over the cloud.
+  std::vector<std::uint32_t> active;
   ActiveCloud data;
-  data.pts.resize(active.size());
-  for (std::size_t k = 0; k < active.size(); ++k) {
-    const Point& p = cloud.points[active[k]];
-    data.pts[k] = {p.x, p.y, p.z};
+  active.reserve(cloud.size());
+  data.pts.reserve(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Point& p = cloud.points[i];
+    if ((skip.empty() || !skip[i]) && valid_point(p)) {
+      active.push_back(std::uint32_t(i));
+      data.pts.push_back({p.x, p.y, p.z});
+    }
   }
   // pcl::KdTreeFLANN::radiusSearch hands FLANN static_cast<float>(radius * radius).
   const auto r2 = static_cast<float>(config.tolerance_m * config.tolerance_m);
