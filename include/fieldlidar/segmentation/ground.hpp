@@ -64,7 +64,8 @@ struct RobustGroundConfig {
   /// ground, nor the lower one when the pair is steeper than face_foot_deg.
   /// Azimuth columns of the test; 0 = test off; -1 = SensorModel::columns for sensors of up to
   /// 32 rings (VLP-16, HDL-32E: sparse rings, where vegetation bases pass the plane tests), off
-  /// for denser ones.
+  /// for denser ones. With a ring field the count is rounded down to a multiple of the polar
+  /// sectors (1800 -> 1792 at the default 2.8125 deg) so that columns nest in sectors.
   int face_columns = -1;
   double face_steep_deg = 60.0;  ///< rise over horizontal spacing of a face (deg)
   double face_foot_deg = 80.0;   ///< the lower return too when the pair is this steep (deg)
