@@ -95,6 +95,36 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   out.person_detections = det.people.size();
   std::vector<Eigen::Vector2d> people_world;
   for (const auto& p : det.people) people_world.push_back(out.pose * p.position_m);
+  // A person who has walked keeps being tracked through scans where only one leg is seen (the
+  // other occluded or merged with it): the nearest unpaired leg near the prediction stands in.
+  if (config_.single_leg_radius_m > 0) {
+    std::vector<char> paired(det.legs.size(), 0);
+    for (const auto& p : det.people) paired[p.legs[0]] = paired[p.legs[1]] = 1;
+    for (const auto& t : persons_.tracks()) {
+      const auto w = person_walked_.find(t.id);
+      if (!t.confirmed || w == person_walked_.end() || !w->second) continue;
+      const Eigen::Vector2d predicted = t.position() + t.velocity() * (stamp_s - t.stamp_s);
+      bool has_pair = false;
+      for (const auto& q : people_world)
+        has_pair = has_pair || (q - predicted).norm() < config_.single_leg_radius_m;
+      if (has_pair) continue;
+      int best = -1;
+      double best_d = config_.single_leg_radius_m;
+      for (std::size_t i = 0; i < det.legs.size(); ++i) {
+        if (paired[i]) continue;
+        const double d = (out.pose * det.legs[i].position_m - predicted).norm();
+        if (d < best_d) {
+          best_d = d;
+          best = int(i);
+        }
+      }
+      if (best < 0) continue;
+      paired[std::size_t(best)] = 1;
+      det.people.push_back(
+          {det.legs[std::size_t(best)].position_m, {std::size_t(best), std::size_t(best)}});
+      people_world.push_back(out.pose * det.legs[std::size_t(best)].position_m);
+    }
+  }
   const auto person_update = persons_.update(stamp_s, people_world);
   for (std::size_t i = 0; i < det.people.size(); ++i) {
     const auto id = person_update.track_of_detection[i];

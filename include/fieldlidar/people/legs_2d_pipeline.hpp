@@ -70,6 +70,9 @@ struct LegPipeline2DConfig {
   }();
   /// A person track is reported once it has moved this far from its first detection (m).
   double person_min_travel_m = 1.0;
+  /// A reported person seen with one leg only: the nearest unpaired leg within this of the
+  /// track's prediction updates it (m; 0 = only paired legs update people).
+  double single_leg_radius_m = 0.35;
 };
 
 struct PipelineLeg {
