@@ -92,6 +92,11 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
 
   // 4. People: paired legs, tracked in the fixed frame, reported once they have walked.
   pair_legs(det, dc);
+  // A pair whose legs are both legs only by their tracks' past evidence is no new evidence of a
+  // person: at least one leg must pass the classifier in this scan.
+  std::erase_if(det.people, [&](const Person& p) {
+    return out.legs[p.legs[0]].score <= 0 && out.legs[p.legs[1]].score <= 0;
+  });
   out.person_detections = det.people.size();
   std::vector<Eigen::Vector2d> people_world;
   for (const auto& p : det.people) people_world.push_back(out.pose * p.position_m);
@@ -102,7 +107,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     for (const auto& p : det.people) paired[p.legs[0]] = paired[p.legs[1]] = 1;
     for (const auto& t : persons_.tracks()) {
       const auto w = person_walked_.find(t.id);
-      if (!t.confirmed || w == person_walked_.end() || !w->second) continue;
+      if (!t.confirmed || t.missed_frames > 1 || w == person_walked_.end() || !w->second) continue;
       const Eigen::Vector2d predicted = t.position() + t.velocity() * (stamp_s - t.stamp_s);
       bool has_pair = false;
       for (const auto& q : people_world)

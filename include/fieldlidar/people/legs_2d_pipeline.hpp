@@ -66,6 +66,7 @@ struct LegPipeline2DConfig {
   TrackerConfig person_tracker = [] {
     TrackerConfig t;
     t.confirm_hits = 5;
+    t.delete_after_miss_s = 1.0;
     return t;
   }();
   /// A person track is reported once it has moved this far from its first detection (m).
