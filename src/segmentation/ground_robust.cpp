@@ -134,13 +134,7 @@ PlaneFit fit_cell(std::span<const CellPoint> members, float z_min, double seed_b
   return out;
 }
 
-// Foot-of-a-face test: returns of one azimuth column ordered by elevation (z / horizontal range
-// is monotonic in it) are, to the column's width, the beams of neighbouring rings. A pair of
-// them that rises steeply lies on a vertical face -- a trunk, a hedge, the base of a shrub -- and
-// a return there within a few centimetres of the ground plane passes the plane tests but is not
-// ground. Ground between rings rises at most at the ground slope (< 22 deg), far from a face.
-// The upper return of a steep pair is rejected; the lower one only when the pair is nearly
-// vertical, since real ground in front of a face forms a steep pair with the face's lowest hit.
+// One return of an azimuth column.
 struct ColumnReturn {
   float elevation;  ///< z / rho, monotonic in the beam elevation
   float rho;        ///< m, horizontal range
@@ -198,7 +192,10 @@ class FaceTests {
 // of the ground plane passes the plane tests but is not ground. Ground between rings rises at
 // most at the ground slope (< 22 deg), far from a face. The upper return of a steep pair is
 // rejected; the lower one only when the pair is nearly vertical, since real ground in front of a
-// face forms a steep pair with the face's lowest hit.
+// face forms a steep pair with the face's lowest hit. An undercut -- the return above nearer
+// the sensor than the one below, a few centimetres to decimetres higher -- is the overhanging
+// flank of a bush or hedge over its foot, and both are rejected unless the lower one continues
+// the return below it on the level (ground running on under the overhang).
 // With a ring field the column is an image column indexed by ring (ascending elevation, no
 // sorting); without one the returns of a column are sorted by z / rho.
 void reject_face_feet(const PolarGrid& grid, const PolarCells& cells,
