@@ -4,6 +4,7 @@
 /// FollowPipeline; each step is a free function of people/, segmentation/ and follow/.
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -22,7 +23,15 @@
 namespace fieldlidar::follow {
 
 struct FollowConfig {
-  segmentation::GroundConfig ground;
+  /// The robust ground without its undercut test (RobustGroundConfig::face_back_*): at a
+  /// walking person's feet the beam above hits the shin nearer than the ground behind, which is
+  /// the undercut pattern of a shrub; with it on, the closed loop lost the operator after the
+  /// shed detour (tests/follow/test_closed_loop.cpp, occluded scenario, never resumed).
+  segmentation::GroundConfig ground = [] {
+    segmentation::GroundConfig g;
+    g.robust.face_back_rise_m = std::numeric_limits<double>::infinity();
+    return g;
+  }();
   segmentation::EuclideanClusterConfig clusters = default_clusters();
   people::LegDetectorConfig legs = default_3d_legs();
   double leg_height_min_m = 0.08;  ///< leg arcs are taken from points this high above ground
