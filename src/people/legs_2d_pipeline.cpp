@@ -106,8 +106,9 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     std::vector<char> paired(det.legs.size(), 0);
     for (const auto& p : det.people) paired[p.legs[0]] = paired[p.legs[1]] = 1;
     for (const auto& t : persons_.tracks()) {
-      const auto w = person_walked_.find(t.id);
-      if (!t.confirmed || t.missed_frames > 1 || w == person_walked_.end() || !w->second) continue;
+      const auto w = person_walk_.find(t.id);
+      if (!t.confirmed || t.missed_frames > 1 || w == person_walk_.end() || !w->second.walked)
+        continue;
       const Eigen::Vector2d predicted = t.position() + t.velocity() * (stamp_s - t.stamp_s);
       bool has_pair = false;
       for (const auto& q : people_world)
@@ -135,15 +136,14 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     const auto id = person_update.track_of_detection[i];
     if (id < 0) continue;
     const auto key = std::uint32_t(id);
-    const auto first = person_first_.try_emplace(key, people_world[i]).first->second;
-    bool& walked = person_walked_[key];
-    walked = walked || (people_world[i] - first).norm() >= config_.person_min_travel_m;
+    Walk& walk = person_walk_.try_emplace(key, Walk{people_world[i]}).first->second;
+    walk.walked =
+        walk.walked || (people_world[i] - walk.first_m).norm() >= config_.person_min_travel_m;
     const Track* t = persons_.find(key);
-    if (t && t->confirmed && walked)
+    if (t && t->confirmed && walk.walked)
       out.people.push_back({det.people[i].position_m, people_world[i], key});
   }
-  prune(person_first_, persons_);
-  prune(person_walked_, persons_);
+  prune(person_walk_, persons_);
   return out;
 }
 

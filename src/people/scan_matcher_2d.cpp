@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <nanoflann.hpp>
@@ -35,6 +36,16 @@ std::vector<Eigen::Vector2d> thin(std::span<const Eigen::Vector2d> scan, double 
     out.push_back(p);
   }
   return out;
+}
+
+/// The target point nearest to `q`: its index and squared distance.
+std::pair<std::uint32_t, double> nearest(const KdTree2& tree, const Eigen::Vector2d& q) {
+  std::uint32_t idx = 0;
+  double d2 = 0;
+  nanoflann::KNNResultSet<double, std::uint32_t> result(1);
+  result.init(&idx, &d2);
+  tree.findNeighbors(result, q.data(), nanoflann::SearchParams(10));
+  return {idx, d2};
 }
 
 /// Unit normals of the target points from their neighbours within `radius_m` (the smallest
@@ -107,6 +118,7 @@ ScanMatch match_scans_2d(std::span<const Eigen::Vector2d> previous,
   std::vector<Eigen::Vector2d> a, b, n;
   a.reserve(source.size());
   b.reserve(source.size());
+  n.reserve(source.size());
   double limit = std::max(c.max_correspondence_m, c.min_correspondence_m);
   for (int it = 0; it < c.max_iterations; ++it) {
     a.clear();
@@ -114,11 +126,7 @@ ScanMatch match_scans_2d(std::span<const Eigen::Vector2d> previous,
     n.clear();
     for (const auto& p : source) {
       const Eigen::Vector2d q = m.transform * p;
-      std::uint32_t idx = 0;
-      double d2 = 0;
-      nanoflann::KNNResultSet<double, std::uint32_t> result(1);
-      result.init(&idx, &d2);
-      tree.findNeighbors(result, q.data(), nanoflann::SearchParams(10));
+      const auto [idx, d2] = nearest(tree, q);
       if (d2 <= limit * limit) {
         a.push_back(q);
         b.push_back(target.pts[idx]);
@@ -142,12 +150,7 @@ ScanMatch match_scans_2d(std::span<const Eigen::Vector2d> previous,
   double sum2 = 0;
   const double tight2 = c.min_correspondence_m * c.min_correspondence_m;
   for (const auto& p : source) {
-    const Eigen::Vector2d q = m.transform * p;
-    std::uint32_t idx = 0;
-    double d2 = 0;
-    nanoflann::KNNResultSet<double, std::uint32_t> result(1);
-    result.init(&idx, &d2);
-    tree.findNeighbors(result, q.data(), nanoflann::SearchParams(10));
+    const double d2 = nearest(tree, m.transform * p).second;
     if (d2 <= tight2) {
       ++inliers;
       sum2 += d2;

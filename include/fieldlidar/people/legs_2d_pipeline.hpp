@@ -116,8 +116,11 @@ class LegPipeline2D {
   StaticBackground world_background_, sensor_background_;
   PersonTracker legs_, persons_;
   std::unordered_map<std::uint32_t, double> leg_evidence_;
-  std::unordered_map<std::uint32_t, Eigen::Vector2d> person_first_;
-  std::unordered_map<std::uint32_t, bool> person_walked_;
+  struct Walk {
+    Eigen::Vector2d first_m;  ///< fixed frame, where the track was first seen
+    bool walked = false;      ///< has been person_min_travel_m from there
+  };
+  std::unordered_map<std::uint32_t, Walk> person_walk_;
 };
 
 }  // namespace fieldlidar::people
