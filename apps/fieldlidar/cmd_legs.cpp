@@ -155,9 +155,8 @@ void run_legs(const LegsOptions& o) {
       auto m = people::match_points(leg_pos, truth[frame->index], o.match_radius_m, &matched);
       if (o.truth_wedge.size() == 3)
         for (std::size_t i = 0; i < leg_pos.size(); ++i) {
-          const double bearing = std::atan2(leg_pos[i].y(), leg_pos[i].x()) * 180.0 / M_PI;
-          const bool inside = leg_pos[i].norm() <= o.truth_wedge[2] &&
-                              bearing >= o.truth_wedge[0] && bearing <= o.truth_wedge[1];
+          const bool inside = people::in_bearing_wedge(leg_pos[i], o.truth_wedge[0],
+                                                       o.truth_wedge[1], o.truth_wedge[2]);
           if (!matched[i] && !inside) --m.false_positive;  // not annotated there: not scored
         }
       counts += m;

@@ -22,6 +22,13 @@ MatchCounts& MatchCounts::operator+=(const MatchCounts& o) {
   return *this;
 }
 
+bool in_bearing_wedge(const Eigen::Vector2d& p, double bearing_min_deg, double bearing_max_deg,
+                      double range_max_m) {
+  const double bearing_deg = std::atan2(p.y(), p.x()) * 180.0 / M_PI;
+  return p.norm() <= range_max_m && bearing_deg >= bearing_min_deg &&
+         bearing_deg <= bearing_max_deg;
+}
+
 MatchCounts match_points(std::span<const Eigen::Vector2d> det,
                          std::span<const Eigen::Vector2d> truth, double radius,
                          std::vector<char>* matched) {

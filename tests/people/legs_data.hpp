@@ -32,8 +32,7 @@ struct LegScan {
 
 /// True when `p` (sensor frame, m) is inside the annotated wedge of positive bag `bag`.
 inline bool in_annotated_region(const Eigen::Vector2d& p, int bag) {
-  const double bearing_deg = std::atan2(p.y(), p.x()) * 180.0 / M_PI;
-  return p.norm() <= 5.0 && bearing_deg >= -15.0 && bearing_deg <= (bag == 4 ? 10.0 : 15.0);
+  return people::in_bearing_wedge(p, -15.0, bag == 4 ? 10.0 : 15.0, 5.0);
 }
 
 inline std::vector<LegScan> load_leg_scans(const std::string& bag, const std::string& topic,

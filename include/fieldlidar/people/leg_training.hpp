@@ -20,6 +20,12 @@ struct MatchCounts {
   double recall() const;
   MatchCounts& operator+=(const MatchCounts& o);
 };
+/// True when `p` (sensor frame, m) lies in the wedge bearing_min_deg..bearing_max_deg (0 = x
+/// forward, counter-clockwise positive) within range_max_m: the region where a dataset annotates
+/// every leg, outside which unmatched detections are not scored.
+bool in_bearing_wedge(const Eigen::Vector2d& p, double bearing_min_deg, double bearing_max_deg,
+                      double range_max_m);
+
 /// One-to-one matching, closest pairs first, within `radius_m`. `matched`, when given, receives
 /// one flag per detection (1 = matched to a truth point).
 MatchCounts match_points(std::span<const Eigen::Vector2d> detections,
