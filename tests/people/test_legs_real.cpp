@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <utility>
 
 #include "legs_data.hpp"
 
@@ -31,25 +32,19 @@ TEST(LegsReal, FiguresOfTheSeedAndEachAddition) {
               trained.config.pair_distance_max_m);
   const auto seed = seed_only(trained.config);
   report("seed, trained bounds", seed);
-  auto c = seed;
-  c.use_min_points = true;
-  report("+ min points", c);
-  c = seed;
-  c.use_chord_max = true;
-  report("+ chord max", c);
-  c = seed;
-  c.use_circle_fit = true;
-  report("+ circle fit", c);
-  c = seed;
-  c.use_curve_min = true;
-  report("+ curve min", c);
-  c = seed;
-  c.use_foreground = true;
-  report("+ foreground", c);
-  c = seed;
-  c.use_background = true;
-  report("+ static background", c);
-  c = trained.config;
+  const std::pair<const char*, bool LegDetectorConfig::*> additions[] = {
+      {"+ min points", &LegDetectorConfig::use_min_points},
+      {"+ chord max", &LegDetectorConfig::use_chord_max},
+      {"+ circle fit", &LegDetectorConfig::use_circle_fit},
+      {"+ curve min", &LegDetectorConfig::use_curve_min},
+      {"+ foreground", &LegDetectorConfig::use_foreground},
+      {"+ static background", &LegDetectorConfig::use_background}};
+  for (const auto& [name, flag] : additions) {
+    auto with = seed;
+    with.*flag = true;
+    report(name, with);
+  }
+  auto c = trained.config;
   c.use_min_points = c.use_chord_max = c.use_circle_fit = c.use_curve_min = c.use_background = true;
   report("all but foreground", c);
 }
