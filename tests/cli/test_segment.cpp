@@ -14,12 +14,6 @@
 namespace fieldlidar::test {
 namespace {
 
-std::string q(const std::filesystem::path& p) {
-  std::ostringstream s;
-  s << '\'' << p.string() << '\'';
-  return s.str();
-}
-
 // Joins the words with spaces (a stream: GCC 12's -Wrestrict misfires on chains of operator+).
 std::string args(std::initializer_list<std::string> words) {
   std::ostringstream s;
@@ -32,8 +26,8 @@ TEST(CliSegment, WritesLabelsCloudAndPicturesAndRefusesToOverwrite) {
   const auto dir = temp_dir("cli_segment");
   const auto in = data_file("kitti00/000000.bin");
   const auto labels = dir / "out.label", png = dir / "out.png", pcd = dir / "out.pcd";
-  const auto r = run_cli(
-      args({"segment", q(in), "--labels", q(labels), "--png", q(png), "--out", q(pcd), "--json"}));
+  const auto r = run_cli(args({"segment", quoted(in), "--labels", quoted(labels), "--png",
+                               quoted(png), "--out", quoted(pcd), "--json"}));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   EXPECT_EQ(j["points"].get<long>(), 124668);
@@ -61,18 +55,19 @@ TEST(CliSegment, WritesLabelsCloudAndPicturesAndRefusesToOverwrite) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out.range.png"));
   EXPECT_TRUE(std::filesystem::exists(pcd));
   // Outputs exist now: without --force nothing is replaced.
-  const auto again = run_cli(args({"segment", q(in), "--labels", q(labels)}));
+  const auto again = run_cli(args({"segment", quoted(in), "--labels", quoted(labels)}));
   EXPECT_EQ(again.exit_code, 1);
   EXPECT_NE(again.output.find("fieldlidar: error:"), std::string::npos);
-  EXPECT_EQ(run_cli(args({"segment", q(in), "--labels", q(labels), "--force"})).exit_code, 0);
-  EXPECT_EQ(run_cli(args({"segment", q(in), "--method", "nonsense"})).exit_code, 1);
-  EXPECT_EQ(run_cli(args({"segment", q(dir / "missing.bin")})).exit_code, 1);
+  EXPECT_EQ(run_cli(args({"segment", quoted(in), "--labels", quoted(labels), "--force"})).exit_code,
+            0);
+  EXPECT_EQ(run_cli(args({"segment", quoted(in), "--method", "nonsense"})).exit_code, 1);
+  EXPECT_EQ(run_cli(args({"segment", quoted(dir / "missing.bin")})).exit_code, 1);
 }
 
 TEST(CliEvalGround, ScoresRellisLikeTheLibrary) {
   FIELDLIDAR_REQUIRE_DATA("rellis3d/000001.label");
-  const auto r = run_cli(args({"eval-ground", q(data_file("rellis3d/000001.bin")),
-                               q(data_file("rellis3d/000001.label")), "--classes", "rellis",
+  const auto r = run_cli(args({"eval-ground", quoted(data_file("rellis3d/000001.bin")),
+                               quoted(data_file("rellis3d/000001.label")), "--classes", "rellis",
                                "--sensor", "os1-64", "--json"}));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
@@ -82,13 +77,13 @@ TEST(CliEvalGround, ScoresRellisLikeTheLibrary) {
   const long scored = j["true_positive"].get<long>() + j["false_positive"].get<long>() +
                       j["false_negative"].get<long>() + j["true_negative"].get<long>();
   EXPECT_EQ(scored, 61781);  // valid returns that are not void
-  const auto s002 = run_cli(args({"eval-ground", q(data_file("rellis3d/000001.bin")),
-                                  q(data_file("rellis3d/000001.label")), "--classes", "rellis",
+  const auto s002 = run_cli(args({"eval-ground", quoted(data_file("rellis3d/000001.bin")),
+                                  quoted(data_file("rellis3d/000001.label")), "--classes", "rellis",
                                   "--sensor", "os1-64", "--method", "seed002", "--json"}));
   ASSERT_EQ(s002.exit_code, 0) << s002.output;
   EXPECT_GT(nlohmann::json::parse(s002.output)["precision"].get<double>(), 0.99);
-  EXPECT_EQ(run_cli(args({"eval-ground", q(data_file("rellis3d/000001.bin")),
-                          q(data_file("kitti00/000000.bin")), "--classes", "rellis"}))
+  EXPECT_EQ(run_cli(args({"eval-ground", quoted(data_file("rellis3d/000001.bin")),
+                          quoted(data_file("kitti00/000000.bin")), "--classes", "rellis"}))
                 .exit_code,
             1);  // label count does not match the cloud
 }

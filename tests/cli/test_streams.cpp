@@ -12,10 +12,6 @@
 namespace fieldlidar {
 namespace {
 
-std::string q(const std::filesystem::path& p) {
-  return "'" + p.string() + "'";
-}
-
 nlohmann::json info_json(const std::string& args) {
   const auto r = test::run_cli("info --json " + args);
   EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -24,7 +20,7 @@ nlohmann::json info_json(const std::string& args) {
 
 TEST(CliStreams, InfoReportsScanAndPoseArrayCountsOfALegBag) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d/positive_1_extracted.bag");
-  const auto j = info_json(q(test::data_file("legs_2d/positive_1_extracted.bag")));
+  const auto j = info_json(test::quoted(test::data_file("legs_2d/positive_1_extracted.bag")));
   EXPECT_EQ(j["format"], "rosbag");
   // Counts from the bag's index (rosbag_storage), one annotation per scan.
   EXPECT_EQ(j["topics"]["/training_scan"].get<int>(), 197);
@@ -39,7 +35,7 @@ TEST(CliStreams, InfoReportsScanAndPoseArrayCountsOfALegBag) {
 
 TEST(CliStreams, InfoOnVelodyneAndOusterCaptures) {
   FIELDLIDAR_REQUIRE_DATA("velodyne_pcap/hdl32_example.pcap");
-  const auto v = info_json(q(test::data_file("velodyne_pcap/hdl32_example.pcap")));
+  const auto v = info_json(test::quoted(test::data_file("velodyne_pcap/hdl32_example.pcap")));
   EXPECT_EQ(v["format"], "velodyne-pcap");
   EXPECT_EQ(v["sensor"], "hdl32e");
   EXPECT_EQ(v["frames"].get<int>(), 5);
@@ -47,7 +43,8 @@ TEST(CliStreams, InfoOnVelodyneAndOusterCaptures) {
   EXPECT_EQ(v["rings"].get<int>(), 32);
   EXPECT_NEAR(v["per_frame"]["period_s_mean"].get<double>(), 0.0853, 0.002);
   FIELDLIDAR_REQUIRE_DATA("ouster_pcap/OS-2-128-U1_v2.3.0_1024x10.pcap");
-  const auto o = info_json(q(test::data_file("ouster_pcap/OS-2-128-U1_v2.3.0_1024x10.pcap")));
+  const auto o =
+      info_json(test::quoted(test::data_file("ouster_pcap/OS-2-128-U1_v2.3.0_1024x10.pcap")));
   EXPECT_EQ(o["format"], "ouster-pcap");
   EXPECT_EQ(o["frames"].get<int>(), 1);
   EXPECT_EQ(o["rings"].get<int>(), 128);
@@ -58,7 +55,8 @@ TEST(CliStreams, InfoOnVelodyneAndOusterCaptures) {
 
 TEST(CliStreams, MissingTopicAndCorruptCaptureFailClearly) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d/negative_2.bag");
-  auto r = test::run_cli("info " + q(test::data_file("legs_2d/negative_2.bag")) + " --topic /nope");
+  auto r = test::run_cli("info " + test::quoted(test::data_file("legs_2d/negative_2.bag")) +
+                         " --topic /nope");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("fieldlidar: error:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("/left_scan"), std::string::npos) << r.output;
@@ -70,7 +68,7 @@ TEST(CliStreams, MissingTopicAndCorruptCaptureFailClearly) {
   bytes.resize(bytes.size() - 700);
   std::ofstream(dir / "cut.pcap", std::ios::binary)
       .write(bytes.data(), std::streamsize(bytes.size()));
-  r = test::run_cli("info " + q(dir / "cut.pcap"));
+  r = test::run_cli("info " + test::quoted(dir / "cut.pcap"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("truncated"), std::string::npos) << r.output;
 }
@@ -78,8 +76,8 @@ TEST(CliStreams, MissingTopicAndCorruptCaptureFailClearly) {
 TEST(CliStreams, ConvertCaptureToFramesKeepsRingAndTimeAndRefusesToOverwrite) {
   FIELDLIDAR_REQUIRE_DATA("velodyne_pcap/hdl32_example.pcap");
   const auto dir = test::temp_dir("cli_streams_convert");
-  const auto pcap = q(test::data_file("velodyne_pcap/hdl32_example.pcap"));
-  auto r = test::run_cli("convert " + pcap + " " + q(dir / "pcd"));
+  const auto pcap = test::quoted(test::data_file("velodyne_pcap/hdl32_example.pcap"));
+  auto r = test::run_cli("convert " + pcap + " " + test::quoted(dir / "pcd"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (int i = 0; i < 5; ++i)
     EXPECT_TRUE(std::filesystem::exists(dir / "pcd" / ("00000" + std::to_string(i) + ".pcd")));
@@ -98,14 +96,14 @@ TEST(CliStreams, ConvertCaptureToFramesKeepsRingAndTimeAndRefusesToOverwrite) {
   EXPECT_EQ(lines, 5);
 
   // Again without --force: refused, the message names the existing file.
-  r = test::run_cli("convert " + pcap + " " + q(dir / "pcd"));
+  r = test::run_cli("convert " + pcap + " " + test::quoted(dir / "pcd"));
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("fieldlidar: error:"), std::string::npos) << r.output;
-  r = test::run_cli("convert --force " + pcap + " " + q(dir / "pcd"));
+  r = test::run_cli("convert --force " + pcap + " " + test::quoted(dir / "pcd"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
 
   // KITTI .bin frames, partial sweeps included on request.
-  r = test::run_cli("convert --format bin --partial " + pcap + " " + q(dir / "bin"));
+  r = test::run_cli("convert --format bin --partial " + pcap + " " + test::quoted(dir / "bin"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "bin" / "000006.bin"));
   EXPECT_EQ(io::read_cloud(dir / "bin" / "000002.bin").size(),
@@ -115,13 +113,14 @@ TEST(CliStreams, ConvertCaptureToFramesKeepsRingAndTimeAndRefusesToOverwrite) {
 TEST(CliStreams, ConvertBagScansToFrames) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d/positive_2_extracted.bag");
   const auto dir = test::temp_dir("cli_streams_bag");
-  const auto r = test::run_cli("convert " + q(test::data_file("legs_2d/positive_2_extracted.bag")) +
-                               " " + q(dir / "scans") + " --format bin");
+  const auto r =
+      test::run_cli("convert " + test::quoted(test::data_file("legs_2d/positive_2_extracted.bag")) +
+                    " " + test::quoted(dir / "scans") + " --format bin");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::size_t files = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir / "scans"))
     files += e.path().extension() == ".bin";
-  const auto j = info_json(q(test::data_file("legs_2d/positive_2_extracted.bag")));
+  const auto j = info_json(test::quoted(test::data_file("legs_2d/positive_2_extracted.bag")));
   EXPECT_EQ(files, j["frames"].get<std::size_t>());
 }
 

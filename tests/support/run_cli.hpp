@@ -4,6 +4,8 @@
 #include <sys/wait.h>
 #include <array>
 #include <cstdio>
+#include <filesystem>
+#include <sstream>
 #include <string>
 
 namespace fieldlidar::test {
@@ -12,6 +14,14 @@ struct CliResult {
   int exit_code = -1;
   std::string output;  ///< stdout and stderr together
 };
+
+/// `p` in single quotes for the shell (a stream: GCC 12's -Wrestrict misfires on
+/// `"'" + s + "'"` at -O3).
+inline std::string quoted(const std::filesystem::path& p) {
+  std::ostringstream s;
+  s << '\'' << p.string() << '\'';
+  return s.str();
+}
 
 /// Runs `fieldlidar ARGS` (ARGS is shell-quoted by the caller) and returns its exit code and
 /// output.
