@@ -56,4 +56,54 @@ ClusterResult make_clusters(const PointCloud& cloud, const std::vector<std::int3
   return out;
 }
 
+ClusterResult make_clusters(std::size_t cloud_size, std::span<const std::uint32_t> active,
+                            std::span<const ClusterPoint> xyz,
+                            std::span<const std::int32_t> component, std::size_t component_count,
+                            std::size_t min_points, std::size_t max_points) {
+  std::vector<std::uint32_t> count(component_count, 0);
+  for (const std::int32_t c : component) ++count[std::size_t(c)];
+  std::vector<std::uint32_t> kept;
+  for (std::size_t c = 0; c < component_count; ++c)
+    if (count[c] > 0 && count[c] >= min_points && count[c] <= max_points)
+      kept.push_back(std::uint32_t(c));
+  // Components are numbered by their first point: the lower number is the lower first index.
+  std::stable_sort(kept.begin(), kept.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return count[a] > count[b]; });
+  std::vector<std::int32_t> rank(component_count, -1);
+  ClusterResult out;
+  out.clusters.resize(kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    rank[kept[k]] = std::int32_t(k);
+    out.clusters[k].indices.reserve(count[kept[k]]);
+  }
+  // Sums, bounds and indices in one pass in ascending point order: the same arithmetic, in the
+  // same order, as finish_cluster.
+  struct Accumulator {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Vector3f min = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+    Eigen::Vector3f max = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
+  };
+  std::vector<Accumulator> acc(kept.size());
+  out.cluster_of_point.assign(cloud_size, -1);
+  for (std::size_t k = 0; k < component.size(); ++k) {
+    const std::int32_t r = rank[std::size_t(component[k])];
+    if (r < 0) continue;
+    const std::uint32_t i = active[k];
+    out.cluster_of_point[i] = r;
+    out.clusters[std::size_t(r)].indices.push_back(i);
+    Accumulator& a = acc[std::size_t(r)];
+    const Eigen::Vector3f p(xyz[k].x, xyz[k].y, xyz[k].z);
+    a.sum += p.cast<double>();
+    a.min = a.min.cwiseMin(p);
+    a.max = a.max.cwiseMax(p);
+  }
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    Cluster& cl = out.clusters[k];
+    cl.min = acc[k].min;
+    cl.max = acc[k].max;
+    cl.centroid = (acc[k].sum / double(cl.indices.size())).cast<float>();
+  }
+  return out;
+}
+
 }  // namespace fieldlidar::segmentation

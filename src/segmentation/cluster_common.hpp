@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <numeric>
+#include <span>
 #include <vector>
 
 #include "fieldlidar/segmentation/clustering.hpp"
@@ -43,5 +44,19 @@ class DisjointSets {
 ClusterResult make_clusters(const PointCloud& cloud, const std::vector<std::int32_t>& component,
                             std::size_t component_count, std::size_t min_points,
                             std::size_t max_points);
+
+/// Coordinates of one point taking part in a clustering (m, the cloud's frame).
+struct ClusterPoint {
+  float x, y, z;
+};
+
+/// The same result from the points taking part only: point k of them is input point active[k]
+/// (ascending) at xyz[k], in component component[k]; components are numbered in order of their
+/// first point (component c's first point comes before component c+1's), so ties in size keep
+/// that order without a look at the points. `cloud_size` is the input cloud's size.
+ClusterResult make_clusters(std::size_t cloud_size, std::span<const std::uint32_t> active,
+                            std::span<const ClusterPoint> xyz,
+                            std::span<const std::int32_t> component, std::size_t component_count,
+                            std::size_t min_points, std::size_t max_points);
 
 }  // namespace fieldlidar::segmentation

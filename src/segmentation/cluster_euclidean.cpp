@@ -6,7 +6,11 @@
 // their size is within [min_points, max_points].
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <memory>
+#include <optional>
+#include <span>
 #include <vector>
 
 #include <nanoflann.hpp>
@@ -21,14 +25,43 @@
 namespace fieldlidar::segmentation {
 namespace {
 
-struct Xyz {
-  float x, y, z;
-};
+using Xyz = ClusterPoint;
 
 inline float squared_distance(const Xyz& a, const Xyz& b) {
   const float dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
   return dx * dx + dy * dy + dz * dz;
 }
+
+/// Axis-aligned bounds of a cell's points (m).
+struct Box {
+  Xyz lo, hi;
+  void add(const Xyz& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  static float gap(float lo_a, float hi_a, float lo_b, float hi_b) {
+    return std::max({lo_b - hi_a, lo_a - hi_b, 0.f});
+  }
+  /// Squared distance between the boxes: no pair of their points is nearer.
+  float gap2(const Box& o) const {
+    const float dx = gap(lo.x, hi.x, o.lo.x, o.hi.x), dy = gap(lo.y, hi.y, o.lo.y, o.hi.y),
+                dz = gap(lo.z, hi.z, o.lo.z, o.hi.z);
+    return dx * dx + dy * dy + dz * dz;
+  }
+  /// Squared distance from p to the box: no point of the box is nearer to p.
+  float gap2(const Xyz& p) const {
+    const float dx = gap(p.x, p.x, lo.x, hi.x), dy = gap(p.y, p.y, lo.y, hi.y),
+                dz = gap(p.z, p.z, lo.z, hi.z);
+    return dx * dx + dy * dy + dz * dz;
+  }
+  /// Squared largest distance between the boxes: no pair of their points is farther apart.
+  float span2(const Box& o) const {
+    const float dx = std::max(hi.x - o.lo.x, o.hi.x - lo.x),
+                dy = std::max(hi.y - o.lo.y, o.hi.y - lo.y),
+                dz = std::max(hi.z - o.lo.z, o.hi.z - lo.z);
+    return dx * dx + dy * dy + dz * dz;
+  }
+};
 
 // ---- k-d tree search (nanoflann), breadth-first growth as in the seed and in PCL ----
 
@@ -82,19 +115,14 @@ std::vector<std::int32_t> components_kdtree(const ActiveCloud& data, float r2, s
 // union-find over cells, neighbouring cells (offsets up to +-2) linked by their first close pair.
 
 // (ix, iy) -> column id: a dense table near the origin (the sensor, where most returns are),
-// open addressing beyond it.
+// open addressing beyond it (allocated when the first column beyond it turns up).
 class ColumnTable {
  public:
-  explicit ColumnTable(std::size_t expected) : dense_(std::size_t(kSide) * kSide, -1) {
-    std::size_t cap = 64;
-    while (cap < expected * 2) cap <<= 1;
-    keys_.assign(cap, 0);
-    values_.assign(cap, -1);
-    mask_ = cap - 1;
-    while ((std::size_t(1) << bits_) < cap) ++bits_;
-  }
+  explicit ColumnTable(std::size_t expected)
+      : dense_(std::size_t(kSide) * kSide, -1), expected_(expected) {}
   std::int32_t find(std::int32_t ix, std::int32_t iy) const {
     if (in_dense(ix, iy)) return dense_[dense_index(ix, iy)];
+    if (values_.empty()) return -1;
     const std::uint64_t k = key(ix, iy);
     for (std::size_t h = hash(k);; h = (h + 1) & mask_) {
       if (values_[h] < 0) return -1;
@@ -107,6 +135,7 @@ class ColumnTable {
       if (v < 0) v = next_id;
       return v;
     }
+    if (values_.empty()) allocate_hash();
     const std::uint64_t k = key(ix, iy);
     for (std::size_t h = hash(k);; h = (h + 1) & mask_) {
       if (values_[h] < 0) {
@@ -131,89 +160,163 @@ class ColumnTable {
   static std::uint64_t key(std::int32_t ix, std::int32_t iy) {
     return (std::uint64_t(std::uint32_t(ix)) << 32) | std::uint32_t(iy);
   }
+  // Room for one column per point: the table never fills.
+  void allocate_hash() {
+    std::size_t cap = 64;
+    while (cap < expected_ * 2) cap <<= 1;
+    keys_.assign(cap, 0);
+    values_.assign(cap, -1);
+    mask_ = cap - 1;
+    while ((std::size_t(1) << bits_) < cap) ++bits_;
+  }
   // Fibonacci hashing: the top bits of the product depend on every bit of ix and iy (middle bits
   // would see little of ix, which sits in the high word, and neighbouring columns would collide).
   std::size_t hash(std::uint64_t k) const {
     return std::size_t((k * 0x9E3779B97F4A7C15ull) >> (64 - bits_));
   }
   std::vector<std::int32_t> dense_;
+  std::size_t expected_ = 0;
   std::vector<std::uint64_t> keys_;
   std::vector<std::int32_t> values_;
   std::size_t mask_ = 0;
   int bits_ = 0;
 };
 
-std::vector<std::int32_t> components_grid(const ActiveCloud& data, double tolerance, float r2,
-                                          std::size_t& count) {
-  const std::size_t n = data.pts.size();
+// Scratch arrays sized for every input point and written before they are read (no zeroing).
+template <class T>
+std::unique_ptr<T[]> scratch(std::size_t n) {
+  return std::make_unique_for_overwrite<T[]>(n);
+}
+
+/// The points taking part: input index (ascending) and coordinates.
+struct Active {
+  std::unique_ptr<std::uint32_t[]> index;
+  std::unique_ptr<ClusterPoint[]> xyz;
+  std::size_t size = 0;
+};
+
+/// The points taking part (not skipped, valid), in ascending order. Written without a branch on
+/// the flags (ground and non-ground alternate along a sweep with no pattern a branch predictor
+/// could follow), validity tested on the bits: finite = exponent not all ones, and not the
+/// all-zero no-return (either sign of zero), as valid_point.
+Active gather(const PointCloud& cloud, std::span<const std::uint8_t> skip) {
+  Active a{scratch<std::uint32_t>(cloud.size()), scratch<ClusterPoint>(cloud.size()), 0};
+  std::size_t n = 0;
+  const bool all = skip.empty();
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Point& p = cloud.points[i];
+    a.index[n] = std::uint32_t(i);
+    a.xyz[n] = {p.x, p.y, p.z};
+    const std::uint32_t bx = std::bit_cast<std::uint32_t>(p.x) & 0x7fffffffu,
+                        by = std::bit_cast<std::uint32_t>(p.y) & 0x7fffffffu,
+                        bz = std::bit_cast<std::uint32_t>(p.z) & 0x7fffffffu;
+    const bool finite = (bx < 0x7f800000u) & (by < 0x7f800000u) & (bz < 0x7f800000u);
+    const bool keep = finite & ((bx | by | bz) != 0) & (all || skip[i] == 0);
+    n += std::size_t(keep);
+  }
+  a.size = n;
+  return a;
+}
+
+// Labels the points (components numbered in order of their first point); nullopt when a cell
+// index would leave the int32 range (coordinates beyond some 3e8 m), where the caller falls back
+// to the k-d tree.
+std::optional<std::vector<std::int32_t>> components_grid(const Active& active, double tolerance,
+                                                         float r2, std::size_t& count) {
   count = 0;
-  std::vector<std::int32_t> comp(n, -1);
-  if (n == 0) return comp;
   // The cell diagonal stays below the tolerance with margin for float rounding of coordinates.
   const double side = tolerance / std::sqrt(3.0) * (1.0 - 1e-4);
   const double inv = 1.0 / side;
-  struct Item {
-    std::int32_t iz;
-    std::uint32_t idx;
-  };
-  std::vector<std::int32_t> col_of(n);
+  const std::size_t n = active.size;
+  auto col_of = scratch<std::uint32_t>(n);
+  auto iz_of = scratch<std::int32_t>(n);
   std::vector<std::int32_t> cix, ciy;
-  ColumnTable table(n);  // at most one column per point
   std::vector<std::uint32_t> col_count;
-  std::vector<std::int32_t> iz_of(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Xyz& p = data.pts[i];
-    const auto ix = std::int32_t(std::floor(double(p.x) * inv));
-    const auto iy = std::int32_t(std::floor(double(p.y) * inv));
-    iz_of[i] = std::int32_t(std::floor(double(p.z) * inv));
-    const std::int32_t id = table.insert(ix, iy, std::int32_t(cix.size()));
-    if (id == std::int32_t(cix.size())) {
+  ColumnTable table(n);  // at most one column per point
+  bool far = false;      // a cell index beyond +-2^30 (some 3e8 m at 0.5 m)
+  const auto cell_index = [&](float v) {
+    const double c = double(v) * inv;
+    far |= !(std::abs(c) < 1073741824.0);
+    const auto t = std::int32_t(std::clamp(c, -1073741824.0, 1073741824.0));
+    return t - std::int32_t(double(t) > c);  // floor
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    const ClusterPoint& p = active.xyz[k];
+    const std::int32_t ix = cell_index(p.x), iy = cell_index(p.y);
+    const auto next = std::int32_t(cix.size());
+    const std::int32_t id = table.insert(ix, iy, next);
+    if (id == next) {
       cix.push_back(ix);
       ciy.push_back(iy);
       col_count.push_back(0);
     }
-    col_of[i] = id;
-    ++col_count[id];
+    ++col_count[std::size_t(id)];
+    col_of[k] = std::uint32_t(id);
+    iz_of[k] = cell_index(p.z);
   }
+  if (far) return std::nullopt;
+  std::vector<std::int32_t> comp(n);
+  if (n == 0) return comp;
   const std::size_t ncols = cix.size();
   std::vector<std::uint32_t> col_start(ncols + 1, 0);
   for (std::size_t c = 0; c < ncols; ++c) col_start[c + 1] = col_start[c] + col_count[c];
-  std::vector<Item> items(n);
-  {
-    std::vector<std::uint32_t> fill(col_start.begin(), col_start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) items[fill[col_of[i]]++] = {iz_of[i], std::uint32_t(i)};
-  }
-  // Cells: runs of equal iz within a column (items sorted by iz per column).
+  // Points by column, each keyed (iz, k) in one integer so that a column sorts by height with
+  // plain integer compares (iz offset by 2^31 keeps the order of negative heights).
+  auto items = scratch<std::uint64_t>(n);
+  for (std::size_t k = 0; k < n; ++k)
+    items[col_start[col_of[k]] + --col_count[col_of[k]]] =
+        (std::uint64_t(std::uint32_t(iz_of[k]) ^ 0x80000000u) << 32) | k;
+  const auto point_of = [&](std::size_t item) { return std::uint32_t(items[item]); };
+  const auto iz_key = [&](std::size_t item) { return std::uint32_t(items[item] >> 32); };
+  // Cells: runs of equal iz within a column.
   std::vector<std::uint32_t> cell_start;  // into items
   std::vector<std::int32_t> cell_iz;
   std::vector<std::uint32_t> col_cell(ncols + 1, 0);
-  cell_start.reserve(n / 2 + 1);
+  cell_start.reserve(n + 1);
+  cell_iz.reserve(n);
   for (std::size_t c = 0; c < ncols; ++c) {
-    auto b = items.begin() + col_start[c], e = items.begin() + col_start[c + 1];
-    std::sort(b, e, [](const Item& u, const Item& v) { return u.iz < v.iz; });
+    const std::uint32_t b = col_start[c], e = col_start[c + 1];
+    std::sort(items.get() + b, items.get() + e);
     col_cell[c] = std::uint32_t(cell_start.size());
-    for (auto it = b; it != e; ++it)
-      if (it == b || it->iz != (it - 1)->iz) {
-        cell_start.push_back(std::uint32_t(it - items.begin()));
-        cell_iz.push_back(it->iz);
+    for (std::uint32_t it = b; it < e; ++it)
+      if (it == b || iz_key(it) != iz_key(it - 1)) {
+        cell_start.push_back(it);
+        cell_iz.push_back(std::int32_t(iz_key(it) ^ 0x80000000u));
       }
   }
   col_cell[ncols] = std::uint32_t(cell_start.size());
   const std::size_t ncells = cell_start.size();
   cell_start.push_back(std::uint32_t(n));
-  // Sorted copy of the coordinates for cache-friendly pair tests.
-  std::vector<Xyz> sorted(n);
-  for (std::size_t k = 0; k < n; ++k) sorted[k] = data.pts[items[k].idx];
-
+  // Coordinates in item order for cache-friendly pair tests, and each cell's bounds.
+  auto sorted = scratch<Xyz>(n);
+  for (std::size_t k = 0; k < n; ++k) sorted[k] = active.xyz[point_of(k)];
+  auto bounds = scratch<Box>(ncells);
+  for (std::size_t cell = 0; cell < ncells; ++cell) {
+    Box& b = bounds[cell];
+    b.lo = b.hi = sorted[cell_start[cell]];
+    for (std::uint32_t k = cell_start[cell] + 1; k < cell_start[cell + 1]; ++k) b.add(sorted[k]);
+  }
+  // Bounds decide most cell pairs without a pair test: the distance between two boxes, in float
+  // with the pair test's operations, bounds every pair's below (rounding is monotonic); a margin of
+  // 1e-5 keeps that true should the compiler fuse the multiply-adds differently.
+  const float r2_far = r2 * (1.f + 1e-5f), r2_near = r2 * (1.f - 1e-5f);
   DisjointSets sets(ncells);
   auto try_link = [&](std::uint32_t a, std::uint32_t b) {
     if (sets.find(a) == sets.find(b)) return;
-    for (std::uint32_t i = cell_start[a]; i < cell_start[a + 1]; ++i)
+    const Box &ba = bounds[a], &bb = bounds[b];
+    if (ba.gap2(bb) >= r2_far) return;
+    if (ba.span2(bb) < r2_near) {
+      sets.unite(a, b);
+      return;
+    }
+    for (std::uint32_t i = cell_start[a]; i < cell_start[a + 1]; ++i) {
+      if (bb.gap2(sorted[i]) >= r2_far) continue;
       for (std::uint32_t j = cell_start[b]; j < cell_start[b + 1]; ++j)
         if (squared_distance(sorted[i], sorted[j]) < r2) {
           sets.unite(a, b);
           return;
         }
+    }
   };
   // Neighbour columns in one half-plane (the other half sees this column from its side).
   static constexpr int kOffsets[12][2] = {{0, 1}, {0, 2},  {1, -2}, {1, -1}, {1, 0}, {1, 1},
@@ -234,12 +337,17 @@ std::vector<std::int32_t> components_grid(const ActiveCloud& data, double tolera
       }
     }
   }
-  std::vector<std::int32_t> root_id(ncells, -1);
+  // Each point gets its cell's root, then the roots are numbered in order of their first point.
   for (std::uint32_t cell = 0; cell < ncells; ++cell) {
-    const std::uint32_t r = sets.find(cell);
-    if (root_id[r] < 0) root_id[r] = std::int32_t(count++);
-    const std::int32_t id = root_id[r];
-    for (std::uint32_t k = cell_start[cell]; k < cell_start[cell + 1]; ++k) comp[items[k].idx] = id;
+    const auto root = std::int32_t(sets.find(cell));
+    for (std::uint32_t k = cell_start[cell]; k < cell_start[cell + 1]; ++k)
+      comp[point_of(k)] = root;
+  }
+  std::vector<std::int32_t> number(ncells, -1);
+  for (std::int32_t& c : comp) {
+    std::int32_t& id = number[std::size_t(c)];
+    if (id < 0) id = std::int32_t(count++);
+    c = id;
   }
   return comp;
 }
@@ -254,28 +362,21 @@ ClusterResult cluster_euclidean(const PointCloud& cloud, std::span<const std::ui
   if (!skip.empty() && skip.size() != cloud.size())
     throw Error("euclidean clustering: skip has " + std::to_string(skip.size()) +
                 " entries for a cloud of " + std::to_string(cloud.size()) + " points");
-  // The points taking part, and their coordinates, in one pass over the cloud.
-  std::vector<std::uint32_t> active;
-  ActiveCloud data;
-  active.reserve(cloud.size());
-  data.pts.reserve(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const Point& p = cloud.points[i];
-    if ((skip.empty() || !skip[i]) && valid_point(p)) {
-      active.push_back(std::uint32_t(i));
-      data.pts.push_back({p.x, p.y, p.z});
-    }
-  }
   // pcl::KdTreeFLANN::radiusSearch hands FLANN static_cast<float>(radius * radius).
   const auto r2 = static_cast<float>(config.tolerance_m * config.tolerance_m);
   std::size_t count = 0;
-  const std::vector<std::int32_t> local =
-      config.search == EuclideanClusterConfig::Search::kKdTree
-          ? components_kdtree(data, r2, count)
-          : components_grid(data, config.tolerance_m, r2, count);
-  std::vector<std::int32_t> component(cloud.size(), -1);
-  for (std::size_t k = 0; k < active.size(); ++k) component[active[k]] = local[k];
-  return make_clusters(cloud, component, count, config.min_points, config.max_points);
+  const Active active = gather(cloud, skip);
+  std::optional<std::vector<std::int32_t>> component;
+  if (config.search == EuclideanClusterConfig::Search::kGrid)
+    component = components_grid(active, config.tolerance_m, r2, count);
+  if (!component) {
+    ActiveCloud data;
+    data.pts.assign(active.xyz.get(), active.xyz.get() + active.size);
+    component = components_kdtree(data, r2, count);
+  }
+  return make_clusters(cloud.size(), {active.index.get(), active.size},
+                       {active.xyz.get(), active.size}, *component, count, config.min_points,
+                       config.max_points);
 }
 
 }  // namespace fieldlidar::segmentation

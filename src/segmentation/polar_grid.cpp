@@ -1,8 +1,10 @@
 #include "polar_grid.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 
 namespace fieldlidar::segmentation {
@@ -15,7 +17,15 @@ PolarGrid::PolarGrid(double min_cell_m, double growth, double max_range_m, doubl
     e += std::max(min_cell_m, growth * e);
     edges_.push_back(float(e));
   }
-  lut_scale_ = 10.f;
+  float narrowest = edges_.back();
+  for (std::size_t k = 0; k + 1 < edges_.size(); ++k)
+    narrowest = std::min(narrowest, edges_[k + 1] - edges_[k]);
+  lut_scale_ = 2.f / narrowest;
+  constexpr float kMaxLut = float(1 << 20);  // entries (2 MB)
+  if (edges_.back() * lut_scale_ > kMaxLut) {
+    lut_scale_ = kMaxLut / edges_.back();
+    coarse_lut_ = true;
+  }
   lut_.resize(std::size_t(edges_.back() * lut_scale_) + 2);
   int b = 0;
   for (std::size_t k = 0; k < lut_.size(); ++k) {
@@ -30,50 +40,134 @@ float PolarGrid::sector_centre_rad(int sector) const {
   return float(-std::numbers::pi + (sector + 0.5) * 2.0 * std::numbers::pi / sectors_);
 }
 
+namespace {
+
+/// a where c holds, else b, by bit masks: with FP exceptions observable (-ftrapping-math) a
+/// compiler keeps ?: on floats as branches, and the loop below would not become SIMD.
+inline float pick(bool c, float a, float b) {
+  const std::uint32_t m = 0u - std::uint32_t(c);
+  return std::bit_cast<float>((m & std::bit_cast<std::uint32_t>(a)) |
+                              (~m & std::bit_cast<std::uint32_t>(b)));
+}
+
+/// PolarGrid::azimuth_code of m points, the same operations in the same order (so the same
+/// codes), written without branches so that the compiler evaluates several points per
+/// instruction: the division and the polynomial are most of pass 1 of assign().
+void azimuth_codes(const float* __restrict xs, const float* __restrict ys,
+                   std::uint16_t* __restrict out, std::size_t m) {
+  for (std::size_t j = 0; j < m; ++j) {
+    const float x = xs[j], y = ys[j];
+    const float ax = std::abs(x), ay = std::abs(y);
+    const float mx = std::max(ay, ax), mn = std::min(ay, ax);
+    // fast_atan2 returns 0 for x = y = 0; 0 / 1 gives the same.
+    const float a = mn / pick(mx == 0.f, 1.f, mx);
+    const float s = a * a;
+    float r = ((-0.0464964749f * s + 0.15931422f) * s - 0.327622764f) * s * a + a;
+    r = pick(ay > ax, 1.57079637f - r, r);
+    r = pick(x < 0.f, 3.14159274f - r, r);
+    r = pick(y < 0.f, -r, r);
+    const float c = (r + 3.14159265f) * (65536.f / 6.28318531f);
+    out[j] = std::uint16_t(std::int32_t(std::min(std::max(c, 0.f), 65535.f)));
+  }
+}
+
+/// valid_point on the bits: finite = exponent not all ones; not the all-zero no-return (either
+/// sign of zero).
+inline bool valid_bits(const Point& p) {
+  const std::uint32_t bx = std::bit_cast<std::uint32_t>(p.x) & 0x7fffffffu,
+                      by = std::bit_cast<std::uint32_t>(p.y) & 0x7fffffffu,
+                      bz = std::bit_cast<std::uint32_t>(p.z) & 0x7fffffffu;
+  return (bx < 0x7f800000u) & (by < 0x7f800000u) & (bz < 0x7f800000u) & ((bx | by | bz) != 0);
+}
+
+}  // namespace
+
 PolarCells PolarGrid::assign(const PointCloud& cloud) const {
   PolarCells out;
   const std::size_t n = cloud.size();
-  std::vector<std::uint32_t> cell_of(n, std::uint32_t(-1));
-  std::vector<std::uint16_t> azimuth_of(n);
-  std::vector<float> rho_of(n);
-  out.offsets.assign(cell_count() + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Point& p = cloud.points[i];
-    if (!valid_point(p)) continue;
-    const float r = std::sqrt(p.x * p.x + p.y * p.y);
-    const int b = bin_of(r);
-    if (b < 0) continue;
-    const std::uint16_t az = azimuth_code(p.x, p.y);
-    const auto c = std::uint32_t(cell(b, sector_of_azimuth(az)));
-    cell_of[i] = c;
-    azimuth_of[i] = az;
-    rho_of[i] = r;
-    ++out.offsets[c + 1];
-  }
-  for (std::size_t c = 0; c < cell_count(); ++c) out.offsets[c + 1] += out.offsets[c];
-  out.order.resize(out.offsets.back());
-  std::vector<std::uint32_t> fill(out.offsets.begin(), out.offsets.end() - 1);
-  out.xyz.resize(out.offsets.back());
-  out.azimuth.resize(out.offsets.back());
-  out.ring.resize(out.offsets.back());
-  out.rho.resize(out.offsets.back());
-  out.lowest.assign(cell_count(), 0);
-  std::vector<float> low_z(cell_count(), std::numeric_limits<float>::infinity());
-  for (std::size_t i = 0; i < n; ++i)
-    if (cell_of[i] != std::uint32_t(-1)) {
-      const std::uint32_t c = cell_of[i];
-      const std::uint32_t k = fill[c]++;
-      if (cloud.points[i].z < low_z[c]) {
-        low_z[c] = cloud.points[i].z;
-        out.lowest[c] = k;
-      }
-      out.order[k] = std::uint32_t(i);
-      const Point& p = cloud.points[i];
-      out.xyz[k] = {p.x, p.y, p.z};
-      out.azimuth[k] = azimuth_of[i];
-      out.ring[k] = p.ring;
-      out.rho[k] = rho_of[i];
+  const std::size_t cells = cell_count();
+  const int nbins = bins();
+  // Per input point (written for every point, so never zeroed): its cell, `cells` for none.
+  const auto cell_of = std::make_unique_for_overwrite<std::uint32_t[]>(n);
+  const auto azimuth_of = std::make_unique_for_overwrite<std::uint16_t[]>(n);
+  const auto rho_of = std::make_unique_for_overwrite<float[]>(n);
+  out.offsets.assign(cells + 1, 0);
+  std::uint32_t* const count = out.offsets.data() + 1;
+  // Pass 1 in blocks, one short loop per step: coordinates, azimuth codes (SIMD), ranges, bins,
+  // then the cells.
+  constexpr std::size_t kBlock = 256;
+  float xs[kBlock], ys[kBlock], rs[kBlock];
+  std::uint16_t az[kBlock];
+  std::int32_t bin[kBlock];
+  std::uint32_t run_cell = 0, run = 0;
+  for (std::size_t base = 0; base < n; base += kBlock) {
+    const std::size_t m = std::min(kBlock, n - base);
+    const Point* pts = cloud.points.data() + base;
+    for (std::size_t j = 0; j < m; ++j) {
+      xs[j] = pts[j].x;
+      ys[j] = pts[j].y;
     }
+    azimuth_codes(xs, ys, az, m);
+    for (std::size_t j = 0; j < m; ++j) rs[j] = xs[j] * xs[j] + ys[j] * ys[j];
+    for (std::size_t j = 0; j < m; ++j) rs[j] = std::sqrt(rs[j]);
+    for (std::size_t j = 0; j < m; ++j) bin[j] = valid_bits(pts[j]) ? bin_of(rs[j]) : -1;
+    for (std::size_t j = 0; j < m; ++j) {
+      azimuth_of[base + j] = az[j];
+      rho_of[base + j] = rs[j];
+      if (bin[j] < 0) {
+        cell_of[base + j] = std::uint32_t(cells);
+        continue;
+      }
+      const auto c = std::uint32_t(std::size_t(sector_of_azimuth(az[j])) * nbins + bin[j]);
+      cell_of[base + j] = c;
+      // Runs of points share a cell (a ring sweeps through it): counted in a register, as an
+      // increment in memory per point would chain each point to the previous one's store.
+      if (c != run_cell) {
+        count[run_cell] += run;
+        run_cell = c;
+        run = 0;
+      }
+      ++run;
+    }
+  }
+  count[run_cell] += run;
+  for (std::size_t c = 0; c < cells; ++c) out.offsets[c + 1] += out.offsets[c];
+  const std::size_t total = out.offsets.back();
+  // Pass 2: the points sorted by cell (a stable counting sort: input order within a cell), with
+  // each cell's lowest return (the first of equals). A run of points in one cell keeps its write
+  // position and low point in registers, as in pass 1.
+  out.order.resize(total);
+  out.xyz.resize(total);
+  out.azimuth.resize(total);
+  out.ring.resize(total);
+  out.rho.resize(total);
+  out.lowest.assign(cells, 0);
+  std::vector<std::uint32_t> fill(out.offsets.begin(), out.offsets.end() - 1);
+  std::vector<float> low_z(cells, std::numeric_limits<float>::infinity());
+  std::uint32_t cur = 0, k = fill[0];
+  float low = low_z[0];
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t c = cell_of[i];
+    if (c == cells) continue;
+    if (c != cur) {
+      fill[cur] = k;
+      low_z[cur] = low;
+      cur = c;
+      k = fill[c];
+      low = low_z[c];
+    }
+    const Point& p = cloud.points[i];
+    if (p.z < low) {
+      low = p.z;
+      out.lowest[c] = k;
+    }
+    out.order[k] = std::uint32_t(i);
+    out.xyz[k] = {p.x, p.y, p.z};
+    out.azimuth[k] = azimuth_of[i];
+    out.ring[k] = p.ring;
+    out.rho[k] = rho_of[i];
+    ++k;
+  }
   return out;
 }
 

@@ -72,9 +72,15 @@ class PolarGrid {
   int bin_of(float r_m) const {
     if (!(r_m < edges_.back())) return -1;
     int b = lut_[std::size_t(r_m * lut_scale_)];
-    // The table has a 0.1 m step; step to the exact bin.
-    while (b > 0 && r_m < edges_[b]) --b;
-    while (b + 1 < bins() && r_m >= edges_[b + 1]) ++b;
+    // The table's step is half the narrowest bin, so at most one edge lies between its entry and
+    // r_m (either side, with the rounding of r_m * lut_scale_): one step each way, without a
+    // branch (bins of neighbouring points alternate unpredictably).
+    b -= int(r_m < edges_[std::size_t(b)]);
+    b += int(r_m >= edges_[std::size_t(b) + 1]);
+    if (coarse_lut_) {  // a range so long that the table has a coarser step
+      while (b > 0 && r_m < edges_[b]) --b;
+      while (b + 1 < bins() && r_m >= edges_[b + 1]) ++b;
+    }
     return b;
   }
   /// Sector of a direction (x, y) (need not be normalised).
@@ -93,7 +99,8 @@ class PolarGrid {
  private:
   std::vector<float> edges_;
   std::vector<std::uint16_t> lut_;  ///< bin per lut_step_m of range
-  float lut_scale_ = 10.f;          ///< 1 / lut step (m^-1)
+  float lut_scale_ = 10.f;          ///< 1 / lut step (m^-1), two steps per narrowest bin
+  bool coarse_lut_ = false;         ///< the step had to be longer (table capped)
   int sectors_ = 128;
 };
 
