@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -39,6 +40,10 @@ struct PlaneFit {
   Eigen::Vector3f normal{0.f, 0.f, 1.f};  ///< up-pointing unit normal of the low points
   float flatness = 0.f;                   ///< m, sqrt of the smallest eigenvalue
   bool upright = true;
+  /// The low points lie along one scan line: the plane's tilt is unknown (kept horizontal).
+  bool line_only = false;
+  bool line_alone = false;  ///< a line-only cell with no return above its low points
+  float line_rho = 0.f;     ///< m, mean horizontal range of a line-only cell's low points
 };
 
 struct SmallestEigen {
@@ -84,9 +89,10 @@ SmallestEigen smallest_eigen(const Eigen::Matrix3d& c) {
   return out;
 }
 
-// PCA of the cell's low points (within seed_band_m of its lowest return).
-PlaneFit fit_cell(std::span<const CellPoint> members, float z_min, double seed_band_m,
-                  float max_cos, float cx, float cy, CellFit& fit) {
+// PCA of the cell's low points (within seed_band_m of its lowest return); `rho` holds the
+// members' horizontal ranges.
+PlaneFit fit_cell(std::span<const CellPoint> members, const float* rho, float z_min,
+                  double seed_band_m, float max_cos, float cx, float cy, CellFit& fit) {
   const float band = z_min + float(seed_band_m);
   // Moments about the lowest return (small numbers, no cancellation): 3 sums, 6 products.
   const CellPoint& o = members.front();
@@ -122,7 +128,22 @@ PlaneFit fit_cell(std::span<const CellPoint> members, float z_min, double seed_b
       out.normal = nrm.cast<float>();
       out.flatness = float(std::sqrt(es.value));
       out.upright = out.normal.z() >= max_cos;
+    } else {
+      out.line_only = true;
     }
+  } else {
+    out.line_only = true;
+  }
+  if (out.line_only) {
+    double sr = 0;
+    int nr = 0;
+    for (std::size_t k = 0; k < members.size(); ++k)
+      if (members[k].z <= band) {
+        sr += rho[k];
+        ++nr;
+      }
+    out.line_rho = float(sr / std::max(1, nr));
+    out.line_alone = nr == int(members.size());
   }
   if (!out.upright) out.normal = {0.f, 0.f, 1.f};
   const Eigen::Vector3f& nm = out.normal;
@@ -309,23 +330,40 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   const float max_cos = float(std::cos(max_slope_rad));
   const double tan_slope = std::tan(max_slope_rad);
   const double tan_bend = std::tan(config.max_bend_deg * std::numbers::pi / 180.0);
+  // Line continuation is for sparse beam tables, where one scan line per cell is common from
+  // ~30 m; on 64 rings it let canopy lines through (RELLIS-3D F1 0.9563 -> 0.9555).
+  const double tan_line =
+      sensor.rings() <= 32 ? std::tan(config.max_line_slope_deg * std::numbers::pi / 180.0) : 0.0;
   std::vector<CellFit> fits(grid.cell_count());
+  std::vector<float> beyond_low;
 
   // Pass 1, per sector from the sensor outward: a cell is ground when its low-point plane is
   // upright and flat and continues the ground of the inner cells (or, before any, the prior).
   for (int s = 0; s < grid.sectors(); ++s) {
     const float a_mid = grid.sector_centre_rad(s);
     const float ca = std::cos(a_mid), sa = std::sin(a_mid);
+    // Lowest return farther out than each bin, for the line continuation below: ground seen
+    // from the sensor has nothing much lower beyond it in the same direction, unless behind a
+    // crest, while a canopy or hedge top has the ground beyond it.
+    beyond_low.assign(std::size_t(grid.bins()) + 1, std::numeric_limits<float>::infinity());
+    for (int b = grid.bins() - 1; b >= 0; --b) {
+      const std::size_t c = grid.cell(b, s);
+      float z = beyond_low[std::size_t(b) + 1];
+      if (cells.offsets[c] != cells.offsets[c + 1]) z = std::min(z, cells.xyz[cells.lowest[c]].z);
+      beyond_low[std::size_t(b)] = z;
+    }
     bool anchored = false;
-    double ref_z = 0.0, ref_r = 0.0, ref_grad = 0.0;
+    double ref_z = 0.0, ref_r = 0.0, ref_grad = 0.0, ref_rho = 0.0;
+    bool ref_line = false;
     for (int b = 0; b < grid.bins(); ++b) {
       const std::size_t c = grid.cell(b, s);
       const auto members = cells.points(c);
       if (members.empty()) continue;
       const float r_mid = grid.bin_centre_m(b);
       CellFit& fit = fits[c];
-      const PlaneFit plane = fit_cell(members, cells.xyz[cells.lowest[c]].z, config.seed_band_m,
-                                      max_cos, r_mid * ca, r_mid * sa, fit);
+      const PlaneFit plane =
+          fit_cell(members, cells.rho.data() + cells.offsets[c], cells.xyz[cells.lowest[c]].z,
+                   config.seed_band_m, max_cos, r_mid * ca, r_mid * sa, fit);
       double predicted, tolerance;
       if (anchored) {
         const double dr = r_mid - ref_r;
@@ -336,16 +374,36 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
         tolerance = config.max_step_m + tan_slope * std::max(0.0, r_mid - config.near_range_m);
       }
       fit.predicted = float(predicted);
-      const bool continuous = std::abs(fit.elevation - predicted) <= tolerance;
+      bool continuous = std::abs(fit.elevation - predicted) <= tolerance;
+      // Sparse rings far out: a cell holds one scan line, whose plane's tilt is unknown, and a
+      // hillside rises by more than the bend tolerance from one line to the next. A line with
+      // nothing above it in its cell continues the ground when it rises from the last ground
+      // line, one cell or so nearer, by no more than max_line_slope_deg and nothing beyond it
+      // lies lower; the ground then follows that gradient.
+      double line_grad = 0;
+      bool by_line = false;
+      if (!continuous && anchored && plane.line_only && plane.line_alone && ref_line &&
+          tan_line > 0) {
+        const double run = plane.line_rho - ref_rho;
+        const double cell_len = std::max(config.min_cell_m, config.cell_growth * r_mid);
+        if (run > 0.3 && run <= 1.5 * cell_len) {
+          line_grad = (fit.elevation - ref_z) / run;
+          by_line = line_grad >= 0 && line_grad <= tan_line &&
+                    beyond_low[std::size_t(b) + 1] >= fit.elevation - float(config.max_step_m);
+          continuous = by_line;
+        }
+      }
       const bool flat = plane.flatness <= config.max_flatness_m;
       if (continuous && plane.upright && flat) {
         fit.state = CellState::kGround;
         anchored = true;
         ref_z = fit.elevation;
         ref_r = r_mid;
+        ref_line = plane.line_only;
+        ref_rho = plane.line_only ? plane.line_rho : r_mid;
         // Radial gradient of the cell's plane, to follow a hill outward.
         const double g = -(plane.normal.x() * ca + plane.normal.y() * sa) / plane.normal.z();
-        ref_grad = std::clamp(g, -tan_slope, tan_slope);
+        ref_grad = by_line ? line_grad : std::clamp(g, -tan_slope, tan_slope);
       } else {
         fit.state = CellState::kRejected;
       }

@@ -13,8 +13,8 @@ namespace fieldlidar::segmentation {
 namespace {
 
 GroundScore sim_score(sim::SceneKind kind, const SensorModel& sensor, double t0_s,
-                      GroundMethod method = GroundMethod::kRobust) {
-  const sim::Scene scene = sim::make_scene(kind, 7);
+                      std::uint64_t seed, GroundMethod method = GroundMethod::kRobust) {
+  const sim::Scene scene = sim::make_scene(kind, seed);
   const auto motion = sim::drive_scene_route(scene, t0_s + 1.0);
   const sim::LidarSimulator lidar(scene, sensor);
   const sim::SimFrame frame = lidar.scan(t0_s, motion.lidar_pose_fn());
@@ -31,36 +31,42 @@ struct Case {
   const char* sensor;
   double t0_s;
   /// The 0.98, or a tighter regression bound just under the measured F1 where that is
-  /// higher; the VLP-16 terrain frame, which misses 0.98, has a regression bound only.
+  /// higher; the frames that miss 0.98 have a regression bound only.
   double min_f1;
+  std::uint64_t seed = 7;  ///< scene seed
 };
 
 class SimGround : public ::testing::TestWithParam<Case> {};
 
 TEST_P(SimGround, RobustF1) {
   const Case c = GetParam();
-  const GroundScore s = sim_score(c.kind, *SensorModel::preset(c.sensor), c.t0_s);
+  const GroundScore s = sim_score(c.kind, *SensorModel::preset(c.sensor), c.t0_s, c.seed);
   std::printf("%s %s: P %.4f R %.4f F1 %.4f\n", sim::to_string(c.kind).c_str(), c.sensor,
               s.precision, s.recall, s.f1);
   EXPECT_GE(s.f1, c.min_f1) << sim::to_string(c.kind) << " " << c.sensor << " P " << s.precision
                             << " R " << s.recall;
 }
 
-// Measured F1: lawn VLP-16 0.983, OS1-64 0.989; terrain VLP-16 0.970, HDL-32E 0.986; forest
-// VLP-16 0.981, OS1-64 0.991. The VLP-16 terrain frame misses the 0.98: its ditch walls
-// and a 25-30 deg hillside 40 m out are steeper than the ground the method accepts (22 deg, 6 deg
-// bend between cells), so they are left non-ground; its bound is a regression bound.
+// Measured F1: lawn VLP-16 0.983, OS1-64 0.989; terrain VLP-16 0.972, HDL-32E 0.986; forest
+// VLP-16 0.981, OS1-64 0.991. The VLP-16 terrain frame misses the 0.98: the walls of its
+// ditch and pits (up to 50 deg) are steeper than the ground the method accepts, and the ground at
+// the feet of bushes and rocks is taken for their faces; its bound is a regression bound. In the
+// forest frame of seed 11 at 9 s (VLP-16 0.980) the ground 5-15 m out lies about a metre above
+// the robot's, behind a rise its cells see as single scan lines: without the line continuation
+// (RobustGroundConfig::max_line_slope_deg) that ground is lost and F1 is 0.954.
 INSTANTIATE_TEST_SUITE_P(Scenes, SimGround,
                          ::testing::Values(Case{sim::SceneKind::kLawn, "vlp16", 1.0, 0.98},
                                            Case{sim::SceneKind::kLawn, "os1-64", 4.0, 0.986},
-                                           Case{sim::SceneKind::kTerrain, "vlp16", 1.0, 0.968},
+                                           Case{sim::SceneKind::kTerrain, "vlp16", 1.0, 0.970},
                                            Case{sim::SceneKind::kTerrain, "hdl32e", 6.0, 0.984},
                                            Case{sim::SceneKind::kForest, "vlp16", 1.0, 0.98},
-                                           Case{sim::SceneKind::kForest, "os1-64", 5.0, 0.989}),
+                                           Case{sim::SceneKind::kForest, "os1-64", 5.0, 0.989},
+                                           Case{sim::SceneKind::kForest, "vlp16", 9.0, 0.978, 11}),
                          [](const auto& info) {
                            std::string s = sim::to_string(info.param.kind) + "_" +
                                            info.param.sensor + "_" +
-                                           std::to_string(int(info.param.t0_s));
+                                           std::to_string(int(info.param.t0_s)) + "_seed" +
+                                           std::to_string(info.param.seed);
                            for (auto& ch : s)
                              if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            return s;

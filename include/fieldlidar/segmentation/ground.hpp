@@ -34,14 +34,17 @@ struct Seed002GroundConfig {
 
 /// The robust default: the ground is grown outward over a polar grid of local plane fits.
 struct RobustGroundConfig {
-  double max_range_m = 120.0;    ///< points farther away are left non-ground
-  double sector_deg = 2.8125;    ///< azimuth width of a polar cell (128 sectors)
-  double min_cell_m = 1.0;       ///< radial length of the innermost cells
-  double cell_growth = 0.06;     ///< radial length = max(min_cell_m, cell_growth * range)
-  double seed_band_m = 0.10;     ///< points within this of a cell's low point seed the fit
-  double max_slope_deg = 22.0;   ///< steepest ground plane accepted (uprightness)
-  double max_step_m = 0.12;      ///< height jump allowed between neighbouring ground cells
-  double max_bend_deg = 6.0;     ///< change of slope allowed from one ground cell to the next
+  double max_range_m = 120.0;   ///< points farther away are left non-ground
+  double sector_deg = 2.8125;   ///< azimuth width of a polar cell (128 sectors)
+  double min_cell_m = 1.0;      ///< radial length of the innermost cells
+  double cell_growth = 0.06;    ///< radial length = max(min_cell_m, cell_growth * range)
+  double seed_band_m = 0.10;    ///< points within this of a cell's low point seed the fit
+  double max_slope_deg = 22.0;  ///< steepest ground plane accepted (uprightness)
+  double max_step_m = 0.12;     ///< height jump allowed between neighbouring ground cells
+  double max_bend_deg = 6.0;    ///< change of slope allowed from one ground cell to the next
+  /// Beyond the reach of the plane fits, where a cell holds a single scan line: steepest rise
+  /// from one ground line to the next accepted (deg; 0 = off). Sensors of up to 32 rings only.
+  double max_line_slope_deg = 30.0;
   double max_flatness_m = 0.08;  ///< sqrt of the smallest eigenvalue of a ground fit
   double ground_above_m = 0.15;  ///< points up to this above the local plane are ground
   double ground_below_m = 1.0;   ///< and down to this below it
