@@ -330,10 +330,11 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   const float max_cos = float(std::cos(max_slope_rad));
   const double tan_slope = std::tan(max_slope_rad);
   const double tan_bend = std::tan(config.max_bend_deg * std::numbers::pi / 180.0);
-  // Line continuation is for sparse beam tables, where one scan line per cell is common from
-  // ~30 m; on 64 rings it let canopy lines through (RELLIS-3D F1 0.9563 -> 0.9555).
+  // The line continuation and the pit walls are for sparse beam tables, where a cell often holds
+  // a single scan line; on 64 rings they cost more than they gain (RELLIS-3D F1 0.9563 -> 0.9553).
+  const bool sparse_rings = sensor.rings() <= 32;
   const double tan_line =
-      sensor.rings() <= 32 ? std::tan(config.max_line_slope_deg * std::numbers::pi / 180.0) : 0.0;
+      sparse_rings ? std::tan(config.max_line_slope_deg * std::numbers::pi / 180.0) : 0.0;
   std::vector<CellFit> fits(grid.cell_count());
   std::vector<float> beyond_low;
 
@@ -378,15 +379,16 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       // Sparse rings far out: a cell holds one scan line, whose plane's tilt is unknown, and a
       // hillside rises by more than the bend tolerance from one line to the next. A line with
       // nothing above it in its cell continues the ground when it rises from the last ground
-      // line, one cell or so nearer, by no more than max_line_slope_deg and nothing beyond it
-      // lies lower; the ground then follows that gradient.
+      // line, at most line_reach_cells cell lengths nearer (not across a shadow), by no more than
+      // max_line_slope_deg and nothing beyond it lies lower; the ground then follows that
+      // gradient.
       double line_grad = 0;
       bool by_line = false;
       if (!continuous && anchored && plane.line_only && plane.line_alone && ref_line &&
           tan_line > 0) {
         const double run = plane.line_rho - ref_rho;
         const double cell_len = std::max(config.min_cell_m, config.cell_growth * r_mid);
-        if (run > 0.3 && run <= 1.5 * cell_len) {
+        if (run > 0.3 && run <= config.line_reach_cells * cell_len) {
           line_grad = (fit.elevation - ref_z) / run;
           by_line = line_grad >= 0 && line_grad <= tan_line &&
                     beyond_low[std::size_t(b) + 1] >= fit.elevation - float(config.max_step_m);
@@ -450,6 +452,7 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   const float clutter_top = float(config.clutter_height_m);
   const float cluttered_above = float(config.cluttered_above_m);
   const float rejected_above = float(config.rejected_above_m);
+  const float rim_above = sparse_rings ? float(config.rim_above_m) : -1.f;
   for (std::size_t c = 0; c < fits.size(); ++c) {
     const CellFit& fit = fits[c];
     if (fit.state == CellState::kEmpty) continue;
@@ -483,7 +486,11 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       const CellPoint& p = pts[k];
       const std::uint32_t i = idx[k];
       const float h = fit.state == CellState::kGround ? fit.height_above(p) : p.z - fit.predicted;
-      if (h <= cell_above && h >= -below) {
+      // A pit or ditch whose bottom holds the cell's low points: its walls and rim, up to the
+      // ground expected from the inner cells, are ground however far above the bottom.
+      const bool pit_wall = fit.state == CellState::kGround && rim_above >= 0 && h >= -below &&
+                            p.z - fit.predicted <= rim_above;
+      if ((h <= cell_above && h >= -below) || pit_wall) {
         result.is_ground[i] = 1;
         ++result.ground_count;
       }

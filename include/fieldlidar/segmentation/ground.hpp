@@ -45,12 +45,18 @@ struct RobustGroundConfig {
   /// Beyond the reach of the plane fits, where a cell holds a single scan line: steepest rise
   /// from one ground line to the next accepted (deg; 0 = off). Sensors of up to 32 rings only.
   double max_line_slope_deg = 30.0;
+  /// and at most this many cell lengths between the two lines (a longer gap is a shadow).
+  double line_reach_cells = 3.0;
   double max_flatness_m = 0.08;  ///< sqrt of the smallest eigenvalue of a ground fit
   double ground_above_m = 0.15;  ///< points up to this above the local plane are ground
   double ground_below_m = 1.0;   ///< and down to this below it
   /// In a cell that is not ground (an object stands there), points up to this above the ground
   /// expected from the neighbouring cells are still ground (m).
   double rejected_above_m = 0.03;
+  /// In a ground cell, returns up to this above the ground expected from the inner cells are
+  /// ground however far above the cell's plane: the walls and rim of a pit or ditch whose bottom
+  /// holds the cell's low points (m; < 0 = off). Sensors of up to 32 rings only.
+  double rim_above_m = 0.0;
   /// Returns between ground_above_m and this height over a cell's plane are clutter (m).
   double clutter_height_m = 1.5;
   /// A cell with more clutter than this times its ground returns is cluttered (0 = off): the
