@@ -232,8 +232,8 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
   auto iz_of = scratch<std::int32_t>(n);
   std::vector<std::int32_t> cix, ciy;
   std::vector<std::uint32_t> col_count;
-  ColumnTable table(n);  // at most one column per point
-  bool far = false;      // a cell index beyond +-2^30 (some 3e8 m at 0.5 m)
+  auto table = std::make_unique<ColumnTable>(n);  // at most one column per point
+  bool far = false;  // a cell index beyond +-2^30 (some 3e8 m at 0.5 m)
   const auto cell_index = [&](float v) {
     const double c = double(v) * inv;
     far |= !(std::abs(c) < 1073741824.0);
@@ -244,7 +244,7 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
     const ClusterPoint& p = active.xyz[k];
     const std::int32_t ix = cell_index(p.x), iy = cell_index(p.y);
     const auto next = std::int32_t(cix.size());
-    const std::int32_t id = table.insert(ix, iy, next);
+    const std::int32_t id = table->insert(ix, iy, next);
     if (id == next) {
       cix.push_back(ix);
       ciy.push_back(iy);
@@ -254,18 +254,53 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
     col_of[k] = std::uint32_t(id);
     iz_of[k] = cell_index(p.z);
   }
+  table.reset();
   if (far) return std::nullopt;
   std::vector<std::int32_t> comp(n);
   if (n == 0) return comp;
+  // Columns renumbered in (ix, iy) order: neighbours are then found by a merge over that order
+  // (sequential reads) instead of look-ups spread over the table.
   const std::size_t ncols = cix.size();
+  std::vector<std::uint32_t> rank(ncols);
+  std::vector<std::int32_t> sx(ncols), sy(ncols);
   std::vector<std::uint32_t> col_start(ncols + 1, 0);
-  for (std::size_t c = 0; c < ncols; ++c) col_start[c + 1] = col_start[c] + col_count[c];
+  {
+    struct ColumnKey {
+      std::uint64_t key;
+      std::uint32_t id;
+    };
+    std::vector<ColumnKey> keys(ncols);
+    for (std::size_t c = 0; c < ncols; ++c)
+      keys[c] = {(std::uint64_t(std::uint32_t(cix[c]) ^ 0x80000000u) << 32) |
+                     (std::uint32_t(ciy[c]) ^ 0x80000000u),
+                 std::uint32_t(c)};
+    std::sort(keys.begin(), keys.end(),
+              [](const ColumnKey& a, const ColumnKey& b) { return a.key < b.key; });
+    for (std::size_t r = 0; r < ncols; ++r) {
+      const std::uint32_t c = keys[r].id;
+      rank[c] = std::uint32_t(r);
+      sx[r] = cix[c];
+      sy[r] = ciy[c];
+      col_start[r + 1] = col_start[r] + col_count[c];
+    }
+  }
   // Points by column, each keyed (iz, k) in one integer so that a column sorts by height with
-  // plain integer compares (iz offset by 2^31 keeps the order of negative heights).
+  // plain integer compares (iz offset by 2^31 keeps the order of negative heights). Filled from
+  // each column's end; a run of points in one column keeps its position in a register.
   auto items = scratch<std::uint64_t>(n);
-  for (std::size_t k = 0; k < n; ++k)
-    items[col_start[col_of[k]] + --col_count[col_of[k]]] =
-        (std::uint64_t(std::uint32_t(iz_of[k]) ^ 0x80000000u) << 32) | k;
+  {
+    std::vector<std::uint32_t> end(col_start.begin() + 1, col_start.end());
+    std::uint32_t cur = 0, pos = end[0];
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t c = rank[col_of[k]];
+      if (c != cur) {
+        end[cur] = pos;
+        cur = c;
+        pos = end[c];
+      }
+      items[--pos] = (std::uint64_t(std::uint32_t(iz_of[k]) ^ 0x80000000u) << 32) | k;
+    }
+  }
   const auto point_of = [&](std::size_t item) { return std::uint32_t(items[item]); };
   const auto iz_key = [&](std::size_t item) { return std::uint32_t(items[item] >> 32); };
   // Cells: runs of equal iz within a column.
@@ -318,23 +353,42 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
         }
     }
   };
-  // Neighbour columns in one half-plane (the other half sees this column from its side).
-  static constexpr int kOffsets[12][2] = {{0, 1}, {0, 2},  {1, -2}, {1, -1}, {1, 0}, {1, 1},
-                                          {1, 2}, {2, -2}, {2, -1}, {2, 0},  {2, 1}, {2, 2}};
+  // Cells of columns c and d (d a neighbour column) within two steps in z.
+  const auto link_columns = [&](std::size_t c, std::size_t d) {
+    const std::uint32_t c0 = col_cell[c], c1 = col_cell[c + 1];
+    const std::uint32_t d0 = col_cell[d], d1 = col_cell[d + 1];
+    std::uint32_t lo = d0;
+    for (std::uint32_t a = c0; a < c1; ++a) {
+      while (lo < d1 && cell_iz[lo] < cell_iz[a] - 2) ++lo;
+      for (std::uint32_t b = lo; b < d1 && cell_iz[b] <= cell_iz[a] + 2; ++b) try_link(a, b);
+    }
+  };
+  // Neighbour columns in one half-plane (the other half sees this column from its side): iy + 1
+  // and iy + 2 in the same row, iy - 2 .. iy + 2 in rows ix + 1 and ix + 2. Columns are in (ix, iy)
+  // order, so the first candidate of each neighbour row only moves forward.
+  // Same column first: cells one or two steps apart in z. A column whose cells all end up in
+  // one set is whole; between two whole columns already in one set there is nothing to test.
+  std::vector<std::uint8_t> whole(ncols);
   for (std::size_t c = 0; c < ncols; ++c) {
     const std::uint32_t c0 = col_cell[c], c1 = col_cell[c + 1];
-    // Same column: cells one or two steps apart in z.
     for (std::uint32_t a = c0; a < c1; ++a)
       for (std::uint32_t b = a + 1; b < c1 && cell_iz[b] - cell_iz[a] <= 2; ++b) try_link(a, b);
-    for (const auto& off : kOffsets) {
-      const std::int32_t d = table.find(cix[c] + off[0], ciy[c] + off[1]);
-      if (d < 0) continue;
-      const std::uint32_t d0 = col_cell[d], d1 = col_cell[d + 1];
-      std::uint32_t lo = d0;
-      for (std::uint32_t a = c0; a < c1; ++a) {
-        while (lo < d1 && cell_iz[lo] < cell_iz[a] - 2) ++lo;
-        for (std::uint32_t b = lo; b < d1 && cell_iz[b] <= cell_iz[a] + 2; ++b) try_link(a, b);
-      }
+    bool one = true;
+    for (std::uint32_t a = c0 + 1; a < c1 && one; ++a) one = sets.find(a) == sets.find(c0);
+    whole[c] = one;
+  }
+  const auto visit = [&](std::size_t c, std::size_t d) {
+    if (whole[c] && whole[d] && sets.find(col_cell[c]) == sets.find(col_cell[d])) return;
+    link_columns(c, d);
+  };
+  std::size_t next_row[3] = {0, 0, 0};
+  for (std::size_t c = 0; c < ncols; ++c) {
+    for (std::size_t d = c + 1; d < ncols && sx[d] == sx[c] && sy[d] <= sy[c] + 2; ++d) visit(c, d);
+    for (int dx = 1; dx <= 2; ++dx) {
+      const std::int32_t row = sx[c] + dx, first = sy[c] - 2, last = sy[c] + 2;
+      std::size_t& d = next_row[dx];
+      while (d < ncols && (sx[d] < row || (sx[d] == row && sy[d] < first))) ++d;
+      for (std::size_t e = d; e < ncols && sx[e] == row && sy[e] <= last; ++e) visit(c, e);
     }
   }
   // Each point gets its cell's root, then the roots are numbered in order of their first point.

@@ -1,5 +1,11 @@
 #include "polar_grid.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#elif defined(__aarch64__)
+#include <arm_neon.h>
+#endif
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -71,6 +77,18 @@ void azimuth_codes(const float* __restrict xs, const float* __restrict ys,
   }
 }
 
+/// v[j] = sqrt(v[j]), four at a time where the instruction set has it (the same correctly
+/// rounded square roots; std::sqrt in a loop stays scalar while it may have to set errno).
+void square_roots(float* v, std::size_t m) {
+  std::size_t j = 0;
+#if defined(__SSE2__)
+  for (; j + 4 <= m; j += 4) _mm_storeu_ps(v + j, _mm_sqrt_ps(_mm_loadu_ps(v + j)));
+#elif defined(__aarch64__)
+  for (; j + 4 <= m; j += 4) vst1q_f32(v + j, vsqrtq_f32(vld1q_f32(v + j)));
+#endif
+  for (; j < m; ++j) v[j] = std::sqrt(v[j]);
+}
+
 /// valid_point on the bits: finite = exponent not all ones; not the all-zero no-return (either
 /// sign of zero).
 inline bool valid_bits(const Point& p) {
@@ -100,6 +118,7 @@ PolarCells PolarGrid::assign(const PointCloud& cloud) const {
   std::uint16_t az[kBlock];
   std::int32_t bin[kBlock];
   std::uint32_t run_cell = 0, run = 0;
+  const float r_end = edges_.back();
   for (std::size_t base = 0; base < n; base += kBlock) {
     const std::size_t m = std::min(kBlock, n - base);
     const Point* pts = cloud.points.data() + base;
@@ -109,8 +128,12 @@ PolarCells PolarGrid::assign(const PointCloud& cloud) const {
     }
     azimuth_codes(xs, ys, az, m);
     for (std::size_t j = 0; j < m; ++j) rs[j] = xs[j] * xs[j] + ys[j] * ys[j];
-    for (std::size_t j = 0; j < m; ++j) rs[j] = std::sqrt(rs[j]);
-    for (std::size_t j = 0; j < m; ++j) bin[j] = valid_bits(pts[j]) ? bin_of(rs[j]) : -1;
+    square_roots(rs, m);
+    if (coarse_lut_)
+      for (std::size_t j = 0; j < m; ++j) bin[j] = valid_bits(pts[j]) ? bin_of(rs[j]) : -1;
+    else
+      for (std::size_t j = 0; j < m; ++j)
+        bin[j] = valid_bits(pts[j]) && rs[j] < r_end ? lut_bin(rs[j]) : -1;
     for (std::size_t j = 0; j < m; ++j) {
       azimuth_of[base + j] = az[j];
       rho_of[base + j] = rs[j];

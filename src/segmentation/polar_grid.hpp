@@ -71,12 +71,7 @@ class PolarGrid {
   /// Bin of horizontal range r_m, -1 beyond the last edge.
   int bin_of(float r_m) const {
     if (!(r_m < edges_.back())) return -1;
-    int b = lut_[std::size_t(r_m * lut_scale_)];
-    // The table's step is half the narrowest bin, so at most one edge lies between its entry and
-    // r_m (either side, with the rounding of r_m * lut_scale_): one step each way, without a
-    // branch (bins of neighbouring points alternate unpredictably).
-    b -= int(r_m < edges_[std::size_t(b)]);
-    b += int(r_m >= edges_[std::size_t(b) + 1]);
+    int b = lut_bin(r_m);
     if (coarse_lut_) {  // a range so long that the table has a coarser step
       while (b > 0 && r_m < edges_[b]) --b;
       while (b + 1 < bins() && r_m >= edges_[b + 1]) ++b;
@@ -97,6 +92,15 @@ class PolarGrid {
   PolarCells assign(const PointCloud& cloud) const;
 
  private:
+  /// The table's step is half the narrowest bin, so at most one edge lies between its entry and
+  /// r_m (either side, with the rounding of r_m * lut_scale_): one step either way, both edges
+  /// loaded at once and without a branch (bins of neighbouring points alternate unpredictably).
+  /// Exact for 0 <= r_m < edges_.back() unless coarse_lut_.
+  int lut_bin(float r_m) const {
+    const std::size_t b = lut_[std::size_t(r_m * lut_scale_)];
+    return int(b) - int(r_m < edges_[b]) + int(r_m >= edges_[b + 1]);
+  }
+
   std::vector<float> edges_;
   std::vector<std::uint16_t> lut_;  ///< bin per lut_step_m of range
   float lut_scale_ = 10.f;          ///< 1 / lut step (m^-1), two steps per narrowest bin
