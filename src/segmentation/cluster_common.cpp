@@ -60,8 +60,21 @@ ClusterResult make_clusters(std::size_t cloud_size, std::span<const std::uint32_
                             std::span<const ClusterPoint> xyz,
                             std::span<const std::int32_t> component, std::size_t component_count,
                             std::size_t min_points, std::size_t max_points) {
+  // Component sizes, counted in runs (neighbouring points mostly share a component; an increment
+  // in memory per point would chain each point to the previous one's store).
   std::vector<std::uint32_t> count(component_count, 0);
-  for (const std::int32_t c : component) ++count[std::size_t(c)];
+  {
+    std::size_t run_c = 0, run = 0;
+    for (const std::int32_t c : component) {
+      if (std::size_t(c) != run_c) {
+        count[run_c] += std::uint32_t(run);
+        run_c = std::size_t(c);
+        run = 0;
+      }
+      ++run;
+    }
+    if (run > 0) count[run_c] += std::uint32_t(run);
+  }
   std::vector<std::uint32_t> kept;
   for (std::size_t c = 0; c < component_count; ++c)
     if (count[c] > 0 && count[c] >= min_points && count[c] <= max_points)
@@ -74,29 +87,39 @@ ClusterResult make_clusters(std::size_t cloud_size, std::span<const std::uint32_
   out.clusters.resize(kept.size());
   for (std::size_t k = 0; k < kept.size(); ++k) {
     rank[kept[k]] = std::int32_t(k);
-    out.clusters[k].indices.reserve(count[kept[k]]);
+    out.clusters[k].indices.resize(count[kept[k]]);
   }
   // Sums, bounds and indices in one pass in ascending point order: the same arithmetic, in the
-  // same order, as finish_cluster.
+  // same order, as finish_cluster. A run of points in one cluster keeps them in registers.
   struct Accumulator {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     Eigen::Vector3f min = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
     Eigen::Vector3f max = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
+    std::size_t filled = 0;
   };
   std::vector<Accumulator> acc(kept.size());
   out.cluster_of_point.assign(cloud_size, -1);
+  std::int32_t run_r = -1;
+  Accumulator run;
+  std::uint32_t* run_out = nullptr;
   for (std::size_t k = 0; k < component.size(); ++k) {
     const std::int32_t r = rank[std::size_t(component[k])];
     if (r < 0) continue;
+    if (r != run_r) {
+      if (run_r >= 0) acc[std::size_t(run_r)] = run;
+      run_r = r;
+      run = acc[std::size_t(r)];
+      run_out = out.clusters[std::size_t(r)].indices.data();
+    }
     const std::uint32_t i = active[k];
     out.cluster_of_point[i] = r;
-    out.clusters[std::size_t(r)].indices.push_back(i);
-    Accumulator& a = acc[std::size_t(r)];
+    run_out[run.filled++] = i;
     const Eigen::Vector3f p(xyz[k].x, xyz[k].y, xyz[k].z);
-    a.sum += p.cast<double>();
-    a.min = a.min.cwiseMin(p);
-    a.max = a.max.cwiseMax(p);
+    run.sum += p.cast<double>();
+    run.min = run.min.cwiseMin(p);
+    run.max = run.max.cwiseMax(p);
   }
+  if (run_r >= 0) acc[std::size_t(run_r)] = run;
   for (std::size_t k = 0; k < kept.size(); ++k) {
     Cluster& cl = out.clusters[k];
     cl.min = acc[k].min;

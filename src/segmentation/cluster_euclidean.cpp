@@ -114,24 +114,24 @@ std::vector<std::int32_t> components_kdtree(const ActiveCloud& data, float r2, s
 // ---- voxel-cell search: cells of side tolerance/sqrt(3) (all points of a cell are linked),
 // union-find over cells, neighbouring cells (offsets up to +-2) linked by their first close pair.
 
-// (ix, iy) -> column id: a dense table near the origin (the sensor, where most returns are),
-// open addressing beyond it (allocated when the first column beyond it turns up).
+// (ix, iy) -> column id: a dense table over the cells the points span near the origin (the
+// sensor, where most returns are; at most +-28 m at the default 0.5 m tolerance), open addressing
+// beyond it (allocated when the first column beyond it turns up).
 class ColumnTable {
  public:
-  explicit ColumnTable(std::size_t expected)
-      : dense_(std::size_t(kSide) * kSide, -1), expected_(expected) {}
-  std::int32_t find(std::int32_t ix, std::int32_t iy) const {
-    if (in_dense(ix, iy)) return dense_[dense_index(ix, iy)];
-    if (values_.empty()) return -1;
-    const std::uint64_t k = key(ix, iy);
-    for (std::size_t h = hash(k);; h = (h + 1) & mask_) {
-      if (values_[h] < 0) return -1;
-      if (keys_[h] == k) return values_[h];
-    }
-  }
+  /// Points span cells [ix0, ix1] x [iy0, iy1]; `expected` columns at most.
+  ColumnTable(std::int32_t ix0, std::int32_t ix1, std::int32_t iy0, std::int32_t iy1,
+              std::size_t expected)
+      : x0_(std::max(ix0, -kHalf)),
+        y0_(std::max(iy0, -kHalf)),
+        w_(std::uint32_t(std::max(0, std::min(ix1, kHalf - 1) - x0_ + 1))),
+        h_(std::uint32_t(std::max(0, std::min(iy1, kHalf - 1) - y0_ + 1))),
+        dense_(std::size_t(w_) * h_, -1),
+        expected_(expected) {}
   std::int32_t insert(std::int32_t ix, std::int32_t iy, std::int32_t next_id) {
-    if (in_dense(ix, iy)) {
-      std::int32_t& v = dense_[dense_index(ix, iy)];
+    const auto dx = std::uint32_t(ix - x0_), dy = std::uint32_t(iy - y0_);
+    if (dx < w_ && dy < h_) {
+      std::int32_t& v = dense_[std::size_t(dx) * h_ + dy];
       if (v < 0) v = next_id;
       return v;
     }
@@ -148,15 +148,7 @@ class ColumnTable {
   }
 
  private:
-  static constexpr std::int32_t kHalf = 96;  // cells: +-28 m at the default 0.5 m tolerance
-  static constexpr std::int32_t kSide = 2 * kHalf;
-  static bool in_dense(std::int32_t ix, std::int32_t iy) {
-    return std::uint32_t(ix + kHalf) < std::uint32_t(kSide) &&
-           std::uint32_t(iy + kHalf) < std::uint32_t(kSide);
-  }
-  static std::size_t dense_index(std::int32_t ix, std::int32_t iy) {
-    return std::size_t(ix + kHalf) * kSide + std::size_t(iy + kHalf);
-  }
+  static constexpr std::int32_t kHalf = 96;
   static std::uint64_t key(std::int32_t ix, std::int32_t iy) {
     return (std::uint64_t(std::uint32_t(ix)) << 32) | std::uint32_t(iy);
   }
@@ -174,6 +166,8 @@ class ColumnTable {
   std::size_t hash(std::uint64_t k) const {
     return std::size_t((k * 0x9E3779B97F4A7C15ull) >> (64 - bits_));
   }
+  std::int32_t x0_, y0_;
+  std::uint32_t w_, h_;
   std::vector<std::int32_t> dense_;
   std::size_t expected_ = 0;
   std::vector<std::uint64_t> keys_;
@@ -230,9 +224,8 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
   const std::size_t n = active.size;
   auto col_of = scratch<std::uint32_t>(n);
   auto iz_of = scratch<std::int32_t>(n);
-  std::vector<std::int32_t> cix, ciy;
+  std::vector<std::int32_t> cix, ciy, col_zlo, col_zhi;  // per column id: ix, iy, iz range
   std::vector<std::uint32_t> col_count;
-  auto table = std::make_unique<ColumnTable>(n);  // at most one column per point
   bool far = false;  // a cell index beyond +-2^30 (some 3e8 m at 0.5 m)
   const auto cell_index = [&](float v) {
     const double c = double(v) * inv;
@@ -240,20 +233,55 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
     const auto t = std::int32_t(std::clamp(c, -1073741824.0, 1073741824.0));
     return t - std::int32_t(double(t) > c);  // floor
   };
+  // The cells the points span (floor is monotonic: the cells of the bounds' corners).
+  float x_lo = 0.f, x_hi = 0.f, y_lo = 0.f, y_hi = 0.f;
+  if (n > 0) {
+    x_lo = x_hi = active.xyz[0].x;
+    y_lo = y_hi = active.xyz[0].y;
+  }
+  for (std::size_t k = 1; k < n; ++k) {
+    x_lo = std::min(x_lo, active.xyz[k].x);
+    x_hi = std::max(x_hi, active.xyz[k].x);
+    y_lo = std::min(y_lo, active.xyz[k].y);
+    y_hi = std::max(y_hi, active.xyz[k].y);
+  }
+  auto table = std::make_unique<ColumnTable>(cell_index(x_lo), cell_index(x_hi), cell_index(y_lo),
+                                             cell_index(y_hi), n);
+  // A run of points in one column (a ring sweeping over an object) keeps the column's count and
+  // iz range in registers: per-point updates in memory would chain each point to the last.
+  std::uint32_t run_id = 0, run_n = 0;
+  std::int32_t run_lo = 0, run_hi = 0;
+  const auto flush_run = [&] {
+    if (run_n == 0) return;
+    col_count[run_id] += run_n;
+    col_zlo[run_id] = std::min(col_zlo[run_id], run_lo);
+    col_zhi[run_id] = std::max(col_zhi[run_id], run_hi);
+  };
   for (std::size_t k = 0; k < n; ++k) {
     const ClusterPoint& p = active.xyz[k];
-    const std::int32_t ix = cell_index(p.x), iy = cell_index(p.y);
+    const std::int32_t ix = cell_index(p.x), iy = cell_index(p.y), iz = cell_index(p.z);
     const auto next = std::int32_t(cix.size());
-    const std::int32_t id = table->insert(ix, iy, next);
-    if (id == next) {
+    const auto id = std::uint32_t(table->insert(ix, iy, next));
+    if (id == std::uint32_t(next)) {
       cix.push_back(ix);
       ciy.push_back(iy);
       col_count.push_back(0);
+      col_zlo.push_back(iz);
+      col_zhi.push_back(iz);
     }
-    ++col_count[std::size_t(id)];
-    col_of[k] = std::uint32_t(id);
-    iz_of[k] = cell_index(p.z);
+    if (id != run_id) {
+      flush_run();
+      run_id = id;
+      run_n = 0;
+      run_lo = run_hi = iz;
+    }
+    ++run_n;
+    run_lo = std::min(run_lo, iz);
+    run_hi = std::max(run_hi, iz);
+    col_of[k] = id;
+    iz_of[k] = iz;
   }
+  flush_run();
   table.reset();
   if (far) return std::nullopt;
   std::vector<std::int32_t> comp(n);
@@ -261,7 +289,7 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
   // Columns renumbered in (ix, iy) order: neighbours are then found by a merge over that order
   // (sequential reads) instead of look-ups spread over the table.
   const std::size_t ncols = cix.size();
-  std::vector<std::uint32_t> rank(ncols);
+  std::vector<std::uint32_t> rank(ncols), column_id(ncols);
   std::vector<std::int32_t> sx(ncols), sy(ncols);
   std::vector<std::uint32_t> col_start(ncols + 1, 0);
   {
@@ -279,46 +307,87 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
     for (std::size_t r = 0; r < ncols; ++r) {
       const std::uint32_t c = keys[r].id;
       rank[c] = std::uint32_t(r);
+      column_id[r] = c;
       sx[r] = cix[c];
       sy[r] = ciy[c];
       col_start[r + 1] = col_start[r] + col_count[c];
     }
   }
-  // Points by column, each keyed (iz, k) in one integer so that a column sorts by height with
-  // plain integer compares (iz offset by 2^31 keeps the order of negative heights). Filled from
-  // each column's end; a run of points in one column keeps its position in a register.
-  auto items = scratch<std::uint64_t>(n);
-  {
-    std::vector<std::uint32_t> end(col_start.begin() + 1, col_start.end());
-    std::uint32_t cur = 0, pos = end[0];
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::uint32_t c = rank[col_of[k]];
-      if (c != cur) {
-        end[cur] = pos;
-        cur = c;
-        pos = end[c];
-      }
-      items[--pos] = (std::uint64_t(std::uint32_t(iz_of[k]) ^ 0x80000000u) << 32) | k;
-    }
-  }
-  const auto point_of = [&](std::size_t item) { return std::uint32_t(items[item]); };
-  const auto iz_key = [&](std::size_t item) { return std::uint32_t(items[item] >> 32); };
-  // Cells: runs of equal iz within a column.
-  std::vector<std::uint32_t> cell_start;  // into items
+  // Points sorted by (column, iz, k): cells are the runs of one (column, iz). When the columns'
+  // iz ranges are short (as over the ground), one counting sort over (column, iz) buckets does
+  // it; else the points are sorted by column and then each column by (iz, k).
+  auto item_point = scratch<std::uint32_t>(n);  // point k of each item, in that order
+  std::vector<std::uint32_t> cell_start;        // into the items
   std::vector<std::int32_t> cell_iz;
   std::vector<std::uint32_t> col_cell(ncols + 1, 0);
   cell_start.reserve(n + 1);
   cell_iz.reserve(n);
-  for (std::size_t c = 0; c < ncols; ++c) {
-    const std::uint32_t b = col_start[c], e = col_start[c + 1];
-    std::sort(items.get() + b, items.get() + e);
-    col_cell[c] = std::uint32_t(cell_start.size());
-    for (std::uint32_t it = b; it < e; ++it)
-      if (it == b || iz_key(it) != iz_key(it - 1)) {
-        cell_start.push_back(it);
-        cell_iz.push_back(std::int32_t(iz_key(it) ^ 0x80000000u));
-      }
+  std::vector<std::uint32_t> bucket_base(ncols + 1, 0);
+  std::uint64_t buckets = 0;
+  for (std::size_t r = 0; r < ncols; ++r) {
+    const std::uint32_t c = column_id[r];
+    bucket_base[r] = std::uint32_t(std::min<std::uint64_t>(buckets, 0xffffffffu));
+    buckets += std::uint64_t(std::int64_t(col_zhi[c]) - col_zlo[c] + 1);
   }
+  if (buckets <= 4 * std::uint64_t(n) + 4096) {
+    bucket_base[ncols] = std::uint32_t(buckets);
+    // Bucket of each point (in col_of), counted in runs.
+    std::vector<std::uint32_t> start(buckets + 1, 0);
+    std::uint32_t run_b = 0, run_count = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t c = col_of[k];
+      const std::uint32_t b = bucket_base[rank[c]] + std::uint32_t(iz_of[k] - col_zlo[c]);
+      col_of[k] = b;
+      if (b != run_b) {
+        start[run_b + 1] += run_count;
+        run_b = b;
+        run_count = 0;
+      }
+      ++run_count;
+    }
+    start[run_b + 1] += run_count;
+    for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+    for (std::size_t r = 0; r < ncols; ++r) {
+      col_cell[r] = std::uint32_t(cell_start.size());
+      const std::int32_t zlo = col_zlo[column_id[r]];
+      for (std::uint32_t b = bucket_base[r]; b < bucket_base[r + 1]; ++b)
+        if (start[b + 1] > start[b]) {
+          cell_start.push_back(start[b]);
+          cell_iz.push_back(zlo + std::int32_t(b - bucket_base[r]));
+        }
+    }
+    std::uint32_t cur = 0, pos = start[0];
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t b = col_of[k];
+      if (b != cur) {
+        start[cur] = pos;
+        cur = b;
+        pos = start[b];
+      }
+      item_point[pos++] = std::uint32_t(k);
+    }
+  } else {
+    // Each keyed (iz, k) in one integer so that a column sorts with plain integer compares (iz
+    // offset by 2^31 keeps the order of negative heights); filled from each column's end.
+    auto items = scratch<std::uint64_t>(n);
+    std::vector<std::uint32_t> end(col_start.begin() + 1, col_start.end());
+    for (std::size_t k = 0; k < n; ++k)
+      items[--end[rank[col_of[k]]]] =
+          (std::uint64_t(std::uint32_t(iz_of[k]) ^ 0x80000000u) << 32) | k;
+    const auto iz_key = [&](std::size_t item) { return std::uint32_t(items[item] >> 32); };
+    for (std::size_t c = 0; c < ncols; ++c) {
+      const std::uint32_t b = col_start[c], e = col_start[c + 1];
+      std::sort(items.get() + b, items.get() + e);
+      col_cell[c] = std::uint32_t(cell_start.size());
+      for (std::uint32_t it = b; it < e; ++it)
+        if (it == b || iz_key(it) != iz_key(it - 1)) {
+          cell_start.push_back(it);
+          cell_iz.push_back(std::int32_t(iz_key(it) ^ 0x80000000u));
+        }
+    }
+    for (std::size_t k = 0; k < n; ++k) item_point[k] = std::uint32_t(items[k]);
+  }
+  const auto point_of = [&](std::size_t item) { return item_point[item]; };
   col_cell[ncols] = std::uint32_t(cell_start.size());
   const std::size_t ncells = cell_start.size();
   cell_start.push_back(std::uint32_t(n));
