@@ -194,13 +194,13 @@ struct Active {
 /// could follow), validity tested on the bits: finite = exponent not all ones, and not the
 /// all-zero no-return (either sign of zero), as valid_point.
 Active gather(const PointCloud& cloud, std::span<const std::uint8_t> skip) {
-  Active a{scratch<std::uint32_t>(cloud.size()), scratch<ClusterPoint>(cloud.size()), 0};
+  Active a;
+  a.index = scratch<std::uint32_t>(cloud.size());
   std::size_t n = 0;
   const bool all = skip.empty();
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Point& p = cloud.points[i];
     a.index[n] = std::uint32_t(i);
-    a.xyz[n] = {p.x, p.y, p.z};
     const std::uint32_t bx = std::bit_cast<std::uint32_t>(p.x) & 0x7fffffffu,
                         by = std::bit_cast<std::uint32_t>(p.y) & 0x7fffffffu,
                         bz = std::bit_cast<std::uint32_t>(p.z) & 0x7fffffffu;
@@ -208,7 +208,13 @@ Active gather(const PointCloud& cloud, std::span<const std::uint8_t> skip) {
     const bool keep = finite & ((bx | by | bz) != 0) & (all || skip[i] == 0);
     n += std::size_t(keep);
   }
+  // Coordinates of the points taking part only (a second pass writes a third of the bytes).
   a.size = n;
+  a.xyz = scratch<ClusterPoint>(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Point& p = cloud.points[a.index[k]];
+    a.xyz[k] = {p.x, p.y, p.z};
+  }
   return a;
 }
 
