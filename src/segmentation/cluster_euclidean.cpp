@@ -240,19 +240,28 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
     return t - std::int32_t(double(t) > c);  // floor
   };
   // The cells the points span (floor is monotonic: the cells of the bounds' corners).
-  float x_lo = 0.f, x_hi = 0.f, y_lo = 0.f, y_hi = 0.f;
-  if (n > 0) {
-    x_lo = x_hi = active.xyz[0].x;
-    y_lo = y_hi = active.xyz[0].y;
-  }
+  ClusterPoint lo{0.f, 0.f, 0.f}, hi{0.f, 0.f, 0.f};
+  if (n > 0) lo = hi = active.xyz[0];
   for (std::size_t k = 1; k < n; ++k) {
-    x_lo = std::min(x_lo, active.xyz[k].x);
-    x_hi = std::max(x_hi, active.xyz[k].x);
-    y_lo = std::min(y_lo, active.xyz[k].y);
-    y_hi = std::max(y_hi, active.xyz[k].y);
+    const ClusterPoint& p = active.xyz[k];
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
-  auto table = std::make_unique<ColumnTable>(cell_index(x_lo), cell_index(x_hi), cell_index(y_lo),
-                                             cell_index(y_hi), n);
+  const float x_lo = lo.x, x_hi = hi.x, y_lo = lo.y, y_hi = hi.y;
+  // Within 512 cells of the origin (some 150 m at 0.5 m) cell indices in float are exact enough:
+  // float(v * inv) is off by at most 512 * 2^-24 of a cell, which widens a cell by 6e-5 of its
+  // side, inside the 1e-4 margin; and cheaper than the double path needed beyond.
+  const double extent = std::max({-lo.x, -lo.y, -lo.z, hi.x, hi.y, hi.z});
+  const bool near = extent * inv < 512.0;
+  const auto inv_f = float(inv);
+  const auto cell_index_near = [inv_f](float v) {
+    const float c = v * inv_f;
+    const auto t = std::int32_t(c);
+    return t - std::int32_t(float(t) > c);  // floor
+  };
+  const auto window = [&](float v) { return near ? cell_index_near(v) : cell_index(v); };
+  auto table =
+      std::make_unique<ColumnTable>(window(x_lo), window(x_hi), window(y_lo), window(y_hi), n);
   // A run of points in one column (a ring sweeping over an object) keeps the column's count and
   // iz range in registers: per-point updates in memory would chain each point to the last.
   std::uint32_t run_id = 0, run_n = 0;
@@ -265,7 +274,16 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
   };
   for (std::size_t k = 0; k < n; ++k) {
     const ClusterPoint& p = active.xyz[k];
-    const std::int32_t ix = cell_index(p.x), iy = cell_index(p.y), iz = cell_index(p.z);
+    std::int32_t ix, iy, iz;
+    if (near) {
+      ix = cell_index_near(p.x);
+      iy = cell_index_near(p.y);
+      iz = cell_index_near(p.z);
+    } else {
+      ix = cell_index(p.x);
+      iy = cell_index(p.y);
+      iz = cell_index(p.z);
+    }
     const auto next = std::int32_t(cix.size());
     const auto id = std::uint32_t(table->insert(ix, iy, next));
     if (id == std::uint32_t(next)) {

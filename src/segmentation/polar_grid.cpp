@@ -167,7 +167,7 @@ PolarCells PolarGrid::assign(const PointCloud& cloud) const {
   out.lowest.assign(cells, 0);
   std::vector<std::uint32_t> fill(out.offsets.begin(), out.offsets.end() - 1);
   std::vector<float> low_z(cells, std::numeric_limits<float>::infinity());
-  std::uint32_t cur = 0, k = fill[0];
+  std::uint32_t cur = 0, k = fill[0], low_k = 0;
   float low = low_z[0];
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t c = cell_of[i];
@@ -175,15 +175,17 @@ PolarCells PolarGrid::assign(const PointCloud& cloud) const {
     if (c != cur) {
       fill[cur] = k;
       low_z[cur] = low;
+      out.lowest[cur] = low_k;
       cur = c;
       k = fill[c];
       low = low_z[c];
+      low_k = out.lowest[c];
     }
     const Point& p = cloud.points[i];
-    if (p.z < low) {
-      low = p.z;
-      out.lowest[c] = k;
-    }
+    // A new low point without a branch (heights along a ring go up and down at random).
+    const bool lower = p.z < low;
+    low = lower ? p.z : low;
+    low_k = lower ? k : low_k;
     out.order[k] = std::uint32_t(i);
     out.xyz[k] = {p.x, p.y, p.z};
     out.azimuth[k] = azimuth_of[i];
@@ -191,6 +193,7 @@ PolarCells PolarGrid::assign(const PointCloud& cloud) const {
     out.rho[k] = rho_of[i];
     ++k;
   }
+  out.lowest[cur] = low_k;
   return out;
 }
 
