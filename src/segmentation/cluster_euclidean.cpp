@@ -189,23 +189,24 @@ struct Active {
   std::size_t size = 0;
 };
 
-/// The points taking part (not skipped, valid), in ascending order. Written without a branch on
-/// the flags (ground and non-ground alternate along a sweep with no pattern a branch predictor
-/// could follow), validity tested on the bits: finite = exponent not all ones, and not the
-/// all-zero no-return (either sign of zero), as valid_point.
+/// The points taking part (not skipped, valid), in ascending order. Skipped points (the ground)
+/// come in runs along a ring, so a branch skips them without reading them; validity is tested
+/// without one, on the bits: finite = exponent not all ones, and not the all-zero no-return
+/// (either sign of zero), as valid_point.
 Active gather(const PointCloud& cloud, std::span<const std::uint8_t> skip) {
   Active a;
   a.index = scratch<std::uint32_t>(cloud.size());
   std::size_t n = 0;
   const bool all = skip.empty();
   for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (!all && skip[i] != 0) continue;  // ground comes in runs along a ring: predictable
     const Point& p = cloud.points[i];
     a.index[n] = std::uint32_t(i);
     const std::uint32_t bx = std::bit_cast<std::uint32_t>(p.x) & 0x7fffffffu,
                         by = std::bit_cast<std::uint32_t>(p.y) & 0x7fffffffu,
                         bz = std::bit_cast<std::uint32_t>(p.z) & 0x7fffffffu;
     const bool finite = (bx < 0x7f800000u) & (by < 0x7f800000u) & (bz < 0x7f800000u);
-    const bool keep = finite & ((bx | by | bz) != 0) & (all || skip[i] == 0);
+    const bool keep = finite & ((bx | by | bz) != 0);
     n += std::size_t(keep);
   }
   // Coordinates of the points taking part only (a second pass writes a third of the bytes).
