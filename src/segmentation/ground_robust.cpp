@@ -42,9 +42,25 @@ struct PlaneFit {
   bool upright = true;
   /// The low points lie along one scan line: the plane's tilt is unknown (kept horizontal).
   bool line_only = false;
-  bool line_alone = false;  ///< a line-only cell with no return above its low points
-  float line_rho = 0.f;     ///< m, mean horizontal range of a line-only cell's low points
 };
+
+// A line-only cell's low points (within `band` of z): their mean horizontal range (m), and
+// whether nothing in the cell lies above them.
+struct LineStats {
+  float rho = 0.f;
+  bool alone = false;
+};
+
+LineStats line_stats(std::span<const CellPoint> members, const float* rho, float band) {
+  double sum = 0;
+  int n = 0;
+  for (std::size_t k = 0; k < members.size(); ++k)
+    if (members[k].z <= band) {
+      sum += rho[k];
+      ++n;
+    }
+  return {float(sum / std::max(1, n)), n == int(members.size())};
+}
 
 struct SmallestEigen {
   double value = 0, second_value = 0;                 ///< the two smallest eigenvalues, >= 0
@@ -89,10 +105,9 @@ SmallestEigen smallest_eigen(const Eigen::Matrix3d& c) {
   return out;
 }
 
-// PCA of the cell's low points (within seed_band_m of its lowest return); `rho` holds the
-// members' horizontal ranges.
-PlaneFit fit_cell(std::span<const CellPoint> members, const float* rho, float z_min,
-                  double seed_band_m, float max_cos, float cx, float cy, CellFit& fit) {
+// PCA of the cell's low points (within seed_band_m of its lowest return).
+PlaneFit fit_cell(std::span<const CellPoint> members, float z_min, double seed_band_m,
+                  float max_cos, float cx, float cy, CellFit& fit) {
   const float band = z_min + float(seed_band_m);
   // Moments about the lowest return (small numbers, no cancellation): 3 sums, 6 products.
   const CellPoint& o = members.front();
@@ -133,17 +148,6 @@ PlaneFit fit_cell(std::span<const CellPoint> members, const float* rho, float z_
     }
   } else {
     out.line_only = true;
-  }
-  if (out.line_only) {
-    double sr = 0;
-    int nr = 0;
-    for (std::size_t k = 0; k < members.size(); ++k)
-      if (members[k].z <= band) {
-        sr += rho[k];
-        ++nr;
-      }
-    out.line_rho = float(sr / std::max(1, nr));
-    out.line_alone = nr == int(members.size());
   }
   if (!out.upright) out.normal = {0.f, 0.f, 1.f};
   const Eigen::Vector3f& nm = out.normal;
@@ -336,35 +340,40 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   const double tan_line =
       sparse_rings ? std::tan(config.max_line_slope_deg * std::numbers::pi / 180.0) : 0.0;
   std::vector<CellFit> fits(grid.cell_count());
-  std::vector<float> beyond_low;
 
   // Pass 1, per sector from the sensor outward: a cell is ground when its low-point plane is
   // upright and flat and continues the ground of the inner cells (or, before any, the prior).
   for (int s = 0; s < grid.sectors(); ++s) {
     const float a_mid = grid.sector_centre_rad(s);
     const float ca = std::cos(a_mid), sa = std::sin(a_mid);
-    // Lowest return farther out than each bin, for the line continuation below: ground seen
-    // from the sensor has nothing much lower beyond it in the same direction, unless behind a
-    // crest, while a canopy or hedge top has the ground beyond it.
-    beyond_low.assign(std::size_t(grid.bins()) + 1, std::numeric_limits<float>::infinity());
-    for (int b = grid.bins() - 1; b >= 0; --b) {
-      const std::size_t c = grid.cell(b, s);
-      float z = beyond_low[std::size_t(b) + 1];
-      if (cells.offsets[c] != cells.offsets[c + 1]) z = std::min(z, cells.xyz[cells.lowest[c]].z);
-      beyond_low[std::size_t(b)] = z;
-    }
     bool anchored = false;
-    double ref_z = 0.0, ref_r = 0.0, ref_grad = 0.0, ref_rho = 0.0;
+    double ref_z = 0.0, ref_r = 0.0, ref_grad = 0.0;
     bool ref_line = false;
+    std::size_t ref_cell = 0;
+    // Lowest return of the sector farther out than bin b (m): ground seen from the sensor has
+    // nothing much lower beyond it in the same direction, unless behind a crest, while a canopy
+    // or a hedge top has the ground beyond it.
+    const auto lowest_beyond = [&](int b) {
+      float z = std::numeric_limits<float>::infinity();
+      for (int bb = b + 1; bb < grid.bins(); ++bb) {
+        const std::size_t cc = grid.cell(bb, s);
+        if (cells.offsets[cc] != cells.offsets[cc + 1])
+          z = std::min(z, cells.xyz[cells.lowest[cc]].z);
+      }
+      return z;
+    };
+    const auto line_of = [&](std::size_t cc) {
+      return line_stats(cells.points(cc), cells.rho.data() + cells.offsets[cc],
+                        cells.xyz[cells.lowest[cc]].z + float(config.seed_band_m));
+    };
     for (int b = 0; b < grid.bins(); ++b) {
       const std::size_t c = grid.cell(b, s);
       const auto members = cells.points(c);
       if (members.empty()) continue;
       const float r_mid = grid.bin_centre_m(b);
       CellFit& fit = fits[c];
-      const PlaneFit plane =
-          fit_cell(members, cells.rho.data() + cells.offsets[c], cells.xyz[cells.lowest[c]].z,
-                   config.seed_band_m, max_cos, r_mid * ca, r_mid * sa, fit);
+      const PlaneFit plane = fit_cell(members, cells.xyz[cells.lowest[c]].z, config.seed_band_m,
+                                      max_cos, r_mid * ca, r_mid * sa, fit);
       double predicted, tolerance;
       if (anchored) {
         const double dr = r_mid - ref_r;
@@ -384,14 +393,14 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       // gradient.
       double line_grad = 0;
       bool by_line = false;
-      if (!continuous && anchored && plane.line_only && plane.line_alone && ref_line &&
-          tan_line > 0) {
-        const double run = plane.line_rho - ref_rho;
+      if (!continuous && anchored && plane.line_only && ref_line && tan_line > 0) {
+        const LineStats line = line_of(c);
+        const double run = double(line.rho) - line_of(ref_cell).rho;
         const double cell_len = std::max(config.min_cell_m, config.cell_growth * r_mid);
-        if (run > 0.3 && run <= config.line_reach_cells * cell_len) {
+        if (line.alone && run > 0.3 && run <= config.line_reach_cells * cell_len) {
           line_grad = (fit.elevation - ref_z) / run;
           by_line = line_grad >= 0 && line_grad <= tan_line &&
-                    beyond_low[std::size_t(b) + 1] >= fit.elevation - float(config.max_step_m);
+                    lowest_beyond(b) >= fit.elevation - float(config.max_step_m);
           continuous = by_line;
         }
       }
@@ -402,7 +411,7 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
         ref_z = fit.elevation;
         ref_r = r_mid;
         ref_line = plane.line_only;
-        ref_rho = plane.line_only ? plane.line_rho : r_mid;
+        ref_cell = c;
         // Radial gradient of the cell's plane, to follow a hill outward.
         const double g = -(plane.normal.x() * ca + plane.normal.y() * sa) / plane.normal.z();
         ref_grad = by_line ? line_grad : std::clamp(g, -tan_slope, tan_slope);
@@ -480,17 +489,16 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       }
       if (double(clutter) > config.max_clutter_ratio * double(low)) cell_above = cluttered_above;
     }
+    // A pit or ditch whose bottom holds the cell's low points: its walls and rim, up to the
+    // ground expected from the inner cells, are ground however far above the bottom.
+    const bool pit_walls = fit.state == CellState::kGround && rim_above >= 0;
     const auto pts = cells.points(c);
     const auto idx = cells.members(c);
     for (std::size_t k = 0; k < pts.size(); ++k) {
       const CellPoint& p = pts[k];
       const std::uint32_t i = idx[k];
       const float h = fit.state == CellState::kGround ? fit.height_above(p) : p.z - fit.predicted;
-      // A pit or ditch whose bottom holds the cell's low points: its walls and rim, up to the
-      // ground expected from the inner cells, are ground however far above the bottom.
-      const bool pit_wall = fit.state == CellState::kGround && rim_above >= 0 && h >= -below &&
-                            p.z - fit.predicted <= rim_above;
-      if ((h <= cell_above && h >= -below) || pit_wall) {
+      if (h >= -below && (h <= cell_above || (pit_walls && p.z - fit.predicted <= rim_above))) {
         result.is_ground[i] = 1;
         ++result.ground_count;
       }
