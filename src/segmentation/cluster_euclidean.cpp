@@ -273,18 +273,14 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
     col_zlo[run_id] = std::min(col_zlo[run_id], run_lo);
     col_zhi[run_id] = std::max(col_zhi[run_id], run_hi);
   };
+  // Cell indices first, in a loop of their own (independent per point, so many in flight).
+  auto cells_of = scratch<std::int32_t>(3 * n);
+  if (near)
+    for (std::size_t k = 0; k < 3 * n; ++k) cells_of[k] = cell_index_near((&active.xyz[0].x)[k]);
+  else
+    for (std::size_t k = 0; k < 3 * n; ++k) cells_of[k] = cell_index((&active.xyz[0].x)[k]);
   for (std::size_t k = 0; k < n; ++k) {
-    const ClusterPoint& p = active.xyz[k];
-    std::int32_t ix, iy, iz;
-    if (near) {
-      ix = cell_index_near(p.x);
-      iy = cell_index_near(p.y);
-      iz = cell_index_near(p.z);
-    } else {
-      ix = cell_index(p.x);
-      iy = cell_index(p.y);
-      iz = cell_index(p.z);
-    }
+    const std::int32_t ix = cells_of[3 * k], iy = cells_of[3 * k + 1], iz = cells_of[3 * k + 2];
     const auto next = std::int32_t(cix.size());
     const auto id = std::uint32_t(table->insert(ix, iy, next));
     if (id == std::uint32_t(next)) {
