@@ -368,15 +368,21 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
     }
     start[run_b + 1] += run_count;
     for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+    // The non-empty buckets, written without a branch (empty and full ones interleave at random).
+    cell_start.resize(n + 1);
+    cell_iz.resize(n + 1);
+    std::size_t cells = 0;
     for (std::size_t r = 0; r < ncols; ++r) {
-      col_cell[r] = std::uint32_t(cell_start.size());
+      col_cell[r] = std::uint32_t(cells);
       const std::int32_t zlo = col_zlo[column_id[r]];
-      for (std::uint32_t b = bucket_base[r]; b < bucket_base[r + 1]; ++b)
-        if (start[b + 1] > start[b]) {
-          cell_start.push_back(start[b]);
-          cell_iz.push_back(zlo + std::int32_t(b - bucket_base[r]));
-        }
+      for (std::uint32_t b = bucket_base[r]; b < bucket_base[r + 1]; ++b) {
+        cell_start[cells] = start[b];
+        cell_iz[cells] = zlo + std::int32_t(b - bucket_base[r]);
+        cells += std::size_t(start[b + 1] > start[b]);
+      }
     }
+    cell_start.resize(cells);
+    cell_iz.resize(cells);
     std::uint32_t cur = 0, pos = start[0];
     for (std::size_t k = 0; k < n; ++k) {
       const std::uint32_t b = col_of[k];
