@@ -97,7 +97,7 @@ class PolarGrid {
   /// loaded at once and without a branch (bins of neighbouring points alternate unpredictably).
   /// Exact for 0 <= r_m < edges_.back() unless coarse_lut_.
   int lut_bin(float r_m) const {
-    const std::size_t b = lut_[std::size_t(r_m * lut_scale_)];
+    const std::size_t b = lut_[std::size_t(std::int32_t(r_m * lut_scale_))];
     return int(b) - int(r_m < edges_[b]) + int(r_m >= edges_[b + 1]);
   }
 
