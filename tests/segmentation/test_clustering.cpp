@@ -85,6 +85,58 @@ TEST(EuclideanClustering, GridAndKdTreeEqualTheBruteForceComponents) {
     }
 }
 
+// The grid search's other paths: columns whose points spread over a tall height range (sorted per
+// column instead of by one counting sort), points beyond the dense column table (+-28 m at
+// 0.5 m) and beyond the float cell indices (512 cells), and coordinates too large for int32 cell
+// indices (the k-d tree takes over).
+TEST(EuclideanClustering, GridFallbacksEqualTheBruteForceComponents) {
+  const auto shifted = [](PointCloud c, float dx, float dy, float dz) {
+    for (auto& p : c.points) {
+      p.x += dx;
+      p.y += dy;
+      p.z += dz;
+    }
+    return c;
+  };
+  std::vector<std::pair<const char*, PointCloud>> cases;
+  {
+    PointCloud c = random_blobs(7, 10, 40, 0.2);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> z(0.f, 3000.f);
+    for (int col = 0; col < 6; ++col)
+      for (int k = 0; k < 40; ++k) {
+        Point p;
+        p.x = 20.f + 0.1f * float(col);
+        p.y = -3.f;
+        p.z = k % 4 == 0 ? 0.3f * float(k) : z(rng);  // a linked stack low, scattered above
+        c.push_back(p);
+      }
+    cases.emplace_back("tall columns", c);
+  }
+  cases.emplace_back("beyond the dense table",
+                     shifted(random_blobs(8, 15, 30, 0.2), 60.f, -45.f, 0));
+  cases.emplace_back("beyond float cell indices",
+                     shifted(random_blobs(9, 15, 30, 0.2), -400.f, 310.f, 2.f));
+  {
+    PointCloud c = random_blobs(10, 8, 30, 0.2);
+    for (int k = 0; k < 3; ++k) {
+      Point p;
+      p.x = 6e8f + 100.f * float(k);
+      p.y = 1.f;
+      p.z = 0.5f;
+      c.push_back(p);
+    }
+    cases.emplace_back("coordinates beyond int32 cells", c);
+  }
+  for (const auto& [name, cloud] : cases) {
+    const auto truth = oracle(cloud, 0.5, 1, 100000);
+    EuclideanClusterConfig cfg;
+    cfg.min_points = 1;
+    cfg.search = EuclideanClusterConfig::Search::kGrid;
+    EXPECT_EQ(parts_of(cluster_euclidean(cloud, {}, cfg)), truth) << name;
+  }
+}
+
 TEST(EuclideanClustering, ExactlyTheToleranceApartIsNotLinked) {
   // pcl's FLANN radius search keeps distances strictly below the radius; 0.5 and 0.25 are exact
   // in float.
