@@ -1,8 +1,34 @@
 #include "cluster_common.hpp"
 
 #include <algorithm>
+#include <functional>
 
 namespace fieldlidar::segmentation {
+namespace {
+
+/// The components of min_points..max_points points, largest first (`before` orders components
+/// of equal size), and each component's rank among them (-1 if dropped).
+struct KeptComponents {
+  std::vector<std::uint32_t> kept;
+  std::vector<std::int32_t> rank;
+};
+
+template <class Before>
+KeptComponents keep_components(const std::vector<std::uint32_t>& count, std::size_t min_points,
+                               std::size_t max_points, Before before) {
+  KeptComponents out;
+  for (std::size_t c = 0; c < count.size(); ++c)
+    if (count[c] > 0 && count[c] >= min_points && count[c] <= max_points)
+      out.kept.push_back(std::uint32_t(c));
+  std::sort(out.kept.begin(), out.kept.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return count[a] != count[b] ? count[a] > count[b] : before(a, b);
+  });
+  out.rank.assign(count.size(), -1);
+  for (std::size_t k = 0; k < out.kept.size(); ++k) out.rank[out.kept[k]] = std::int32_t(k);
+  return out;
+}
+
+}  // namespace
 
 void finish_cluster(const PointCloud& cloud, Cluster& cluster) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -31,20 +57,12 @@ ClusterResult make_clusters(const PointCloud& cloud, const std::vector<std::int3
     if (c < 0) continue;
     if (count[c]++ == 0) first[c] = std::uint32_t(i);
   }
-  std::vector<std::uint32_t> kept;
-  for (std::size_t c = 0; c < component_count; ++c)
-    if (count[c] > 0 && count[c] >= min_points && count[c] <= max_points)
-      kept.push_back(std::uint32_t(c));
-  std::sort(kept.begin(), kept.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return count[a] != count[b] ? count[a] > count[b] : first[a] < first[b];
-  });
-  std::vector<std::int32_t> rank(component_count, -1);
+  const auto [kept, rank] =
+      keep_components(count, min_points, max_points,
+                      [&](std::uint32_t a, std::uint32_t b) { return first[a] < first[b]; });
   ClusterResult out;
   out.clusters.resize(kept.size());
-  for (std::size_t k = 0; k < kept.size(); ++k) {
-    rank[kept[k]] = std::int32_t(k);
-    out.clusters[k].indices.reserve(count[kept[k]]);
-  }
+  for (std::size_t k = 0; k < kept.size(); ++k) out.clusters[k].indices.reserve(count[kept[k]]);
   out.cluster_of_point.assign(component.size(), -1);
   for (std::size_t i = 0; i < component.size(); ++i) {
     const std::int32_t c = component[i];
@@ -75,20 +93,11 @@ ClusterResult make_clusters(std::size_t cloud_size, std::span<const std::uint32_
     }
     if (run > 0) count[run_c] += std::uint32_t(run);
   }
-  std::vector<std::uint32_t> kept;
-  for (std::size_t c = 0; c < component_count; ++c)
-    if (count[c] > 0 && count[c] >= min_points && count[c] <= max_points)
-      kept.push_back(std::uint32_t(c));
   // Components are numbered by their first point: the lower number is the lower first index.
-  std::stable_sort(kept.begin(), kept.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return count[a] > count[b]; });
-  std::vector<std::int32_t> rank(component_count, -1);
+  const auto [kept, rank] = keep_components(count, min_points, max_points, std::less<>());
   ClusterResult out;
   out.clusters.resize(kept.size());
-  for (std::size_t k = 0; k < kept.size(); ++k) {
-    rank[kept[k]] = std::int32_t(k);
-    out.clusters[k].indices.resize(count[kept[k]]);
-  }
+  for (std::size_t k = 0; k < kept.size(); ++k) out.clusters[k].indices.resize(count[kept[k]]);
   // Sums, bounds and indices in one pass in ascending point order: the same arithmetic, in the
   // same order, as finish_cluster. A run of points in one cluster keeps them in registers.
   struct Accumulator {

@@ -6,7 +6,6 @@
 // their size is within [min_points, max_points].
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -32,7 +31,7 @@ inline float squared_distance(const Xyz& a, const Xyz& b) {
   return dx * dx + dy * dy + dz * dz;
 }
 
-/// Axis-aligned bounds of a cell's points (m).
+/// Axis-aligned bounds of points (m).
 struct Box {
   Xyz lo, hi;
   void add(const Xyz& p) {
@@ -191,8 +190,7 @@ struct Active {
 
 /// The points taking part (not skipped, valid), in ascending order. Skipped points (the ground)
 /// come in runs along a ring, so a branch skips them without reading them; validity is tested
-/// without one, on the bits: finite = exponent not all ones, and not the all-zero no-return
-/// (either sign of zero), as valid_point.
+/// without one (valid_point).
 Active gather(const PointCloud& cloud, std::span<const std::uint8_t> skip) {
   Active a;
   a.index = scratch<std::uint32_t>(cloud.size());
@@ -202,12 +200,7 @@ Active gather(const PointCloud& cloud, std::span<const std::uint8_t> skip) {
     if (!all && skip[i] != 0) continue;  // ground comes in runs along a ring: predictable
     const Point& p = cloud.points[i];
     a.index[n] = std::uint32_t(i);
-    const std::uint32_t bx = std::bit_cast<std::uint32_t>(p.x) & 0x7fffffffu,
-                        by = std::bit_cast<std::uint32_t>(p.y) & 0x7fffffffu,
-                        bz = std::bit_cast<std::uint32_t>(p.z) & 0x7fffffffu;
-    const bool finite = (bx < 0x7f800000u) & (by < 0x7f800000u) & (bz < 0x7f800000u);
-    const bool keep = finite & ((bx | by | bz) != 0);
-    n += std::size_t(keep);
+    n += std::size_t(valid_point(p));
   }
   // Coordinates of the points taking part only (a second pass writes a third of the bytes).
   a.size = n;
@@ -241,14 +234,10 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
     return t - std::int32_t(double(t) > c);  // floor
   };
   // The cells the points span (floor is monotonic: the cells of the bounds' corners).
-  ClusterPoint lo{0.f, 0.f, 0.f}, hi{0.f, 0.f, 0.f};
-  if (n > 0) lo = hi = active.xyz[0];
-  for (std::size_t k = 1; k < n; ++k) {
-    const ClusterPoint& p = active.xyz[k];
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  const float x_lo = lo.x, x_hi = hi.x, y_lo = lo.y, y_hi = hi.y;
+  Box points_box{{0.f, 0.f, 0.f}, {0.f, 0.f, 0.f}};
+  if (n > 0) points_box.lo = points_box.hi = active.xyz[0];
+  for (std::size_t k = 1; k < n; ++k) points_box.add(active.xyz[k]);
+  const Xyz &lo = points_box.lo, &hi = points_box.hi;
   // Within 512 cells of the origin (some 150 m at 0.5 m) cell indices in float are exact enough:
   // float(v * inv) is off by at most 512 * 2^-24 of a cell, which widens a cell by 6e-5 of its
   // side, inside the 1e-4 margin; and cheaper than the double path needed beyond.
@@ -262,7 +251,7 @@ std::optional<std::vector<std::int32_t>> components_grid(const Active& active, d
   };
   const auto window = [&](float v) { return near ? cell_index_near(v) : cell_index(v); };
   auto table =
-      std::make_unique<ColumnTable>(window(x_lo), window(x_hi), window(y_lo), window(y_hi), n);
+      std::make_unique<ColumnTable>(window(lo.x), window(hi.x), window(lo.y), window(hi.y), n);
   // A run of points in one column (a ring sweeping over an object) keeps the column's count and
   // iz range in registers: per-point updates in memory would chain each point to the last.
   std::uint32_t run_id = 0, run_n = 0;

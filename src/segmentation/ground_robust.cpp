@@ -272,9 +272,8 @@ void reject_face_feet(const PolarGrid& grid, const PolarCells& cells,
     std::vector<std::uint32_t> offsets(std::size_t(columns) + 1, 0);
     std::vector<std::int32_t> col_of(m, -1);
     for (std::size_t k = 0; k < m; ++k) {
-      const CellPoint& p = cells.xyz[k];
-      const float rho2 = p.x * p.x + p.y * p.y;
-      if (rho2 < 0.09f || rho2 > max_rho * max_rho) continue;
+      const float rho = cells.rho[k];
+      if (rho < 0.3f || rho > max_rho) continue;
       col_of[k] = column_of(cells.azimuth[k]);
       ++offsets[std::size_t(col_of[k]) + 1];
     }
@@ -283,9 +282,8 @@ void reject_face_feet(const PolarGrid& grid, const PolarCells& cells,
     std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
     for (std::size_t k = 0; k < m; ++k) {
       if (col_of[k] < 0) continue;
-      const CellPoint& p = cells.xyz[k];
-      const float rho = std::sqrt(p.x * p.x + p.y * p.y);
-      pts[fill[std::size_t(col_of[k])]++] = {p.z / rho, rho, p.z, cells.order[k]};
+      const float rho = cells.rho[k], z = cells.xyz[k].z;
+      pts[fill[std::size_t(col_of[k])]++] = {z / rho, rho, z, cells.order[k]};
     }
     for (int c = 0; c < columns; ++c) {
       const auto first = pts.begin() + offsets[std::size_t(c)];
@@ -334,8 +332,9 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   const float max_cos = float(std::cos(max_slope_rad));
   const double tan_slope = std::tan(max_slope_rad);
   const double tan_bend = std::tan(config.max_bend_deg * std::numbers::pi / 180.0);
-  // The line continuation and the pit walls are for sparse beam tables, where a cell often holds
-  // a single scan line; on 64 rings they cost more than they gain (RELLIS-3D F1 0.9563 -> 0.9553).
+  // The line continuation, the pit walls and (by default) the face tests are for sparse beam
+  // tables, where a cell often holds a single scan line; on 64 rings the first two cost more
+  // than they gain (RELLIS-3D F1 0.9563 -> 0.9553).
   const bool sparse_rings = sensor.rings() <= 32;
   const double tan_line =
       sparse_rings ? std::tan(config.max_line_slope_deg * std::numbers::pi / 180.0) : 0.0;
@@ -507,7 +506,7 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   // Dense beam tables (64+ rings) resolve the faces themselves in the plane fits and gain
   // nothing measurable from the test (RELLIS-3D: F1 0.9563 either way), at 2-3x the cost.
   const int face_columns = config.face_columns >= 0 ? config.face_columns
-                           : sensor.rings() <= 32   ? sensor.columns
+                           : sparse_rings           ? sensor.columns
                                                     : 0;
 
   if (face_columns > 0)

@@ -7,7 +7,6 @@
 #endif
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -48,35 +47,6 @@ float PolarGrid::sector_centre_rad(int sector) const {
 
 namespace {
 
-/// a where c holds, else b, by bit masks: with FP exceptions observable (-ftrapping-math) a
-/// compiler keeps ?: on floats as branches, and the loop below would not become SIMD.
-inline float pick(bool c, float a, float b) {
-  const std::uint32_t m = 0u - std::uint32_t(c);
-  return std::bit_cast<float>((m & std::bit_cast<std::uint32_t>(a)) |
-                              (~m & std::bit_cast<std::uint32_t>(b)));
-}
-
-/// PolarGrid::azimuth_code of m points, the same operations in the same order (so the same
-/// codes), written without branches so that the compiler evaluates several points per
-/// instruction: the division and the polynomial are most of pass 1 of assign().
-void azimuth_codes(const float* __restrict xs, const float* __restrict ys,
-                   std::uint16_t* __restrict out, std::size_t m) {
-  for (std::size_t j = 0; j < m; ++j) {
-    const float x = xs[j], y = ys[j];
-    const float ax = std::abs(x), ay = std::abs(y);
-    const float mx = std::max(ay, ax), mn = std::min(ay, ax);
-    // fast_atan2 returns 0 for x = y = 0; 0 / 1 gives the same.
-    const float a = mn / pick(mx == 0.f, 1.f, mx);
-    const float s = a * a;
-    float r = ((-0.0464964749f * s + 0.15931422f) * s - 0.327622764f) * s * a + a;
-    r = pick(ay > ax, 1.57079637f - r, r);
-    r = pick(x < 0.f, 3.14159274f - r, r);
-    r = pick(y < 0.f, -r, r);
-    const float c = (r + 3.14159265f) * (65536.f / 6.28318531f);
-    out[j] = std::uint16_t(std::int32_t(std::min(std::max(c, 0.f), 65535.f)));
-  }
-}
-
 /// v[j] = sqrt(v[j]), four at a time where the instruction set has it (the same correctly
 /// rounded square roots; std::sqrt in a loop stays scalar while it may have to set errno).
 void square_roots(float* v, std::size_t m) {
@@ -87,15 +57,6 @@ void square_roots(float* v, std::size_t m) {
   for (; j + 4 <= m; j += 4) vst1q_f32(v + j, vsqrtq_f32(vld1q_f32(v + j)));
 #endif
   for (; j < m; ++j) v[j] = std::sqrt(v[j]);
-}
-
-/// valid_point on the bits: finite = exponent not all ones; not the all-zero no-return (either
-/// sign of zero).
-inline bool valid_bits(const Point& p) {
-  const std::uint32_t bx = std::bit_cast<std::uint32_t>(p.x) & 0x7fffffffu,
-                      by = std::bit_cast<std::uint32_t>(p.y) & 0x7fffffffu,
-                      bz = std::bit_cast<std::uint32_t>(p.z) & 0x7fffffffu;
-  return (bx < 0x7f800000u) & (by < 0x7f800000u) & (bz < 0x7f800000u) & ((bx | by | bz) != 0);
 }
 
 }  // namespace
@@ -126,14 +87,14 @@ PolarCells PolarGrid::assign(const PointCloud& cloud) const {
       xs[j] = pts[j].x;
       ys[j] = pts[j].y;
     }
-    azimuth_codes(xs, ys, az, m);
+    for (std::size_t j = 0; j < m; ++j) az[j] = azimuth_code(xs[j], ys[j]);  // SIMD
     for (std::size_t j = 0; j < m; ++j) rs[j] = xs[j] * xs[j] + ys[j] * ys[j];
     square_roots(rs, m);
     if (coarse_lut_)
-      for (std::size_t j = 0; j < m; ++j) bin[j] = valid_bits(pts[j]) ? bin_of(rs[j]) : -1;
+      for (std::size_t j = 0; j < m; ++j) bin[j] = valid_point(pts[j]) ? bin_of(rs[j]) : -1;
     else
       for (std::size_t j = 0; j < m; ++j)
-        bin[j] = valid_bits(pts[j]) && rs[j] < r_end ? lut_bin(rs[j]) : -1;
+        bin[j] = valid_point(pts[j]) && rs[j] < r_end ? lut_bin(rs[j]) : -1;
     for (std::size_t j = 0; j < m; ++j) {
       azimuth_of[base + j] = az[j];
       rho_of[base + j] = rs[j];
