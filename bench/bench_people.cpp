@@ -92,6 +92,15 @@ void BM_LegsOnly_VLP16(benchmark::State& state) {
 }
 BENCHMARK(BM_LegsOnly_VLP16)->Unit(benchmark::kMicrosecond);
 
+/// The valid returns of every scan of `topic` in `bag`, as the legs CLI reads them.
+std::vector<std::vector<Eigen::Vector2d>> read_scans_2d(const std::filesystem::path& bag,
+                                                        const std::string& topic) {
+  std::vector<std::vector<Eigen::Vector2d>> scans;
+  auto src = io::FrameSource::open(bag, {topic, {}});
+  while (auto fr = src->next()) scans.push_back(people::scan_points_2d(fr->cloud));
+  return scans;
+}
+
 void BM_Legs2D_RealScan(benchmark::State& state) {
   const auto bag =
       std::filesystem::path(FIELDLIDAR_DEFAULT_DATA_DIR) / "legs_2d" / "positive_1_extracted.bag";
@@ -99,12 +108,7 @@ void BM_Legs2D_RealScan(benchmark::State& state) {
     state.SkipWithError("legs_2d data absent");
     return;
   }
-  std::vector<std::vector<Eigen::Vector2d>> scans;
-  auto src = io::FrameSource::open(bag, {"/training_scan", {}});
-  while (auto fr = src->next()) {
-    auto& v = scans.emplace_back();
-    for (const auto& p : fr->cloud.points) v.emplace_back(p.x, p.y);
-  }
+  const auto scans = read_scans_2d(bag, "/training_scan");
   const auto cfg = people::default_2d_legs();
   people::StaticBackground bg;
   people::PersonTracker tracker;
@@ -132,12 +136,7 @@ void pipeline_2d(benchmark::State& state, bool matching_only) {
     state.SkipWithError("legs_2d data or config/legs_2d_classifier.yaml absent");
     return;
   }
-  std::vector<std::vector<Eigen::Vector2d>> scans;
-  auto src = io::FrameSource::open(bag, {"/right_scan", {}});
-  while (auto fr = src->next()) {
-    auto& v = scans.emplace_back();
-    for (const auto& p : fr->cloud.points) v.emplace_back(p.x, p.y);
-  }
+  const auto scans = read_scans_2d(bag, "/right_scan");
   std::ifstream in(model);
   std::stringstream text;
   text << in.rdbuf();

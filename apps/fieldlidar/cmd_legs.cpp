@@ -109,11 +109,7 @@ void run_legs(const LegsOptions& o) {
     std::vector<long long> person_id;
     if (frame->cloud.ring_count() <= 1) {
       // A 2D scan is one ring: points in beam order. Persons are the pipeline's tracked people.
-      std::vector<Eigen::Vector2d> pts;
-      pts.reserve(frame->cloud.size());
-      for (const auto& p : frame->cloud.points)
-        if (p.is_valid()) pts.emplace_back(p.x, p.y);
-      const auto det = pipeline.process(frame->stamp_s, pts);
+      const auto det = pipeline.process(frame->stamp_s, people::scan_points_2d(frame->cloud));
       for (const auto& l : det.legs) leg_pos.push_back(l.position_m);
       for (const auto& p : det.people) {
         person_pos.push_back(p.position_m);

@@ -86,9 +86,8 @@ void collect(const std::string& bag, const std::string& topic,
   auto src = io::FrameSource::open(bag, so);
   while (auto f = src->next()) {
     ++scans;
-    std::vector<Eigen::Vector2d> pts, legs;
-    for (const auto& p : f->cloud.points)
-      if (p.is_valid()) pts.emplace_back(p.x, p.y);
+    const std::vector<Eigen::Vector2d> pts = people::scan_points_2d(f->cloud);
+    std::vector<Eigen::Vector2d> legs;
     if (f->index < truth.size())
       for (const auto& pose : truth[f->index].poses)
         legs.emplace_back(pose.translation().x(), pose.translation().y());

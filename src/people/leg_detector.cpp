@@ -173,15 +173,29 @@ bool in_foreground(std::span<const Eigen::Vector2d> pts, std::size_t begin, std:
   return true;
 }
 
-LegDetection detect_legs_2d(std::span<const Eigen::Vector2d> ordered_points,
-                            const LegDetectorConfig& config, const StaticBackground* background) {
-  LegDetection out;
+std::vector<Eigen::Vector2d> scan_points_2d(const PointCloud& scan) {
+  std::vector<Eigen::Vector2d> pts;
+  pts.reserve(scan.size());
+  for (const auto& p : scan.points)
+    if (p.is_valid()) pts.emplace_back(p.x, p.y);
+  return pts;
+}
+
+std::vector<Eigen::Vector2d> points_in_range(std::span<const Eigen::Vector2d> ordered_points,
+                                             const LegDetectorConfig& config) {
   std::vector<Eigen::Vector2d> pts;
   pts.reserve(ordered_points.size());
   for (const auto& p : ordered_points) {
     const double r = p.norm();
     if (p.allFinite() && r >= config.range_min_m && r <= config.range_max_m) pts.push_back(p);
   }
+  return pts;
+}
+
+LegDetection detect_legs_2d(std::span<const Eigen::Vector2d> ordered_points,
+                            const LegDetectorConfig& config, const StaticBackground* background) {
+  LegDetection out;
+  const std::vector<Eigen::Vector2d> pts = points_in_range(ordered_points, config);
   const auto segments = split_by_jump(pts, config.segment_jump_m);
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const auto [b, e] = segments[s];

@@ -35,12 +35,8 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     out.ego_motion_ok = odometry_.last_match().ok || odometry_.last_match().iterations == 0;
   }
   const bool moving_frame = pose.has_value() || config_.estimate_ego_motion;
-  std::vector<Eigen::Vector2d> pts, world;
-  pts.reserve(points.size());
-  for (const auto& p : points) {
-    const double r = p.norm();
-    if (p.allFinite() && r >= dc.range_min_m && r <= dc.range_max_m) pts.push_back(p);
-  }
+  const std::vector<Eigen::Vector2d> pts = points_in_range(points, dc);
+  std::vector<Eigen::Vector2d> world;
   world.reserve(pts.size());
   for (const auto& p : pts) world.push_back(out.pose * p);
 

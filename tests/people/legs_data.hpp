@@ -47,8 +47,7 @@ inline std::vector<LegScan> load_leg_scans(const std::string& bag, const std::st
     LegScan s;
     s.stamp_s = f->stamp_s;
     s.bag = bag_number;
-    for (const auto& p : f->cloud.points)
-      if (p.is_valid()) s.points.emplace_back(p.x, p.y);
+    s.points = people::scan_points_2d(f->cloud);
     if (f->index < truth.size())
       for (const auto& pose : truth[f->index].poses)
         s.legs.emplace_back(pose.translation().x(), pose.translation().y());

@@ -150,6 +150,14 @@ struct LegDetection {
 bool in_foreground(std::span<const Eigen::Vector2d> ordered_points, std::size_t begin,
                    std::size_t end, double margin_m);
 
+/// The valid returns of a 2D scan (one ring, in beam order) as points in its plane (m).
+std::vector<Eigen::Vector2d> scan_points_2d(const PointCloud& scan);
+
+/// The finite points of `ordered_points` with a range within [config.range_min_m,
+/// config.range_max_m], in their order.
+std::vector<Eigen::Vector2d> points_in_range(std::span<const Eigen::Vector2d> ordered_points,
+                                             const LegDetectorConfig& config);
+
 /// 2D path: one ring of ordered points (a LaserScan in beam order). Segments are split by jump
 /// distance, each segment is one arc; every accepted arc is a leg (one ring: min_rings is not
 /// applied). Points outside [range_min_m, range_max_m] are ignored.
