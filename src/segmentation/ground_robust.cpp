@@ -179,6 +179,7 @@ class FaceTests {
         back_run_(float(config.face_back_run_m)),
         back_reach_(float(config.face_back_reach_m)),
         back_flat_(float(config.face_back_flat_m)),
+        flat_gap_(float(config.face_flat_gap_m)),
         k_max_(std::max(1, config.face_neighbours)) {}
 
   void column(std::span<const ColumnReturn> col, const std::vector<std::uint8_t>& is_ground,
@@ -186,28 +187,33 @@ class FaceTests {
     const std::size_t m = col.size();
     for (std::size_t a = 0; a + 1 < m; ++a) {
       const ColumnReturn& lo = col[a];
+      // Ground running on to the lower return: it continues the return below it on the level,
+      // from at most flat_gap_ nearer (not across a shadow).
+      const bool flat_run = a > 0 && std::abs(lo.z - col[a - 1].z) <= back_flat_ &&
+                            lo.rho - col[a - 1].rho <= flat_gap_;
       const std::size_t stop = std::min(m, a + 1 + std::size_t(k_max_));
       for (std::size_t b = a + 1; b < stop; ++b) {
         const ColumnReturn& up = col[b];
         const float rise = up.z - lo.z;
         const float run = up.rho - lo.rho;
         if (rise >= back_rise_ && rise <= back_top_ && run <= back_run_ && run >= -back_reach_) {
+          // An overhang: ground may run on under it.
           if (is_ground[up.index]) feet.push_back(up.index);
-          // Flat ground running on under the overhang: the lower return continues the return
-          // below it at the same height.
-          const bool flat_run = a > 0 && std::abs(lo.z - col[a - 1].z) <= back_flat_;
           if (is_ground[lo.index] && !flat_run) feet.push_back(lo.index);
           continue;
         }
         if (rise < min_rise_ || std::abs(run) > rise * cot_steep_) continue;
+        // A face: the lower return is its foot unless the ground runs on to it.
         if (is_ground[up.index]) feet.push_back(up.index);
-        if (std::abs(run) <= rise * cot_foot_ && is_ground[lo.index]) feet.push_back(lo.index);
+        if (std::abs(run) <= rise * cot_foot_ && is_ground[lo.index] && !flat_run)
+          feet.push_back(lo.index);
       }
     }
   }
 
  private:
-  float cot_steep_, cot_foot_, min_rise_, back_rise_, back_top_, back_run_, back_reach_, back_flat_;
+  float cot_steep_, cot_foot_, min_rise_, back_rise_, back_top_, back_run_, back_reach_, back_flat_,
+      flat_gap_;
   int k_max_;
 };
 

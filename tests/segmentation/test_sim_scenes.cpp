@@ -47,19 +47,20 @@ TEST_P(SimGround, RobustF1) {
                             << " R " << s.recall;
 }
 
-// Measured F1: lawn VLP-16 0.983, OS1-64 0.989; terrain VLP-16 0.979, HDL-32E 0.989; forest
-// VLP-16 0.981, OS1-64 0.991. The VLP-16 terrain frame misses the 0.98 (its bound is a
-// regression bound): ground at the feet of bushes is taken for their faces, 40 m out the top of
-// a 30 deg hillside rises in steps of one scan line per cell, and the skirts of rocks and bushes
-// pass as ground. In the forest frame of seed 11 at 9 s (VLP-16 0.981) the ground 5-15 m out lies
-// about a metre above the robot's, behind a rise its cells see as single scan lines: without the
-// line continuation (RobustGroundConfig::max_line_slope_deg) F1 is 0.954. The terrain frames owe
-// 0.970 -> 0.979 (VLP-16) and 0.986 -> 0.989 (HDL-32E) to the line continuation and the pit walls
-// (RobustGroundConfig::rim_above_m).
+// Measured F1: lawn VLP-16 0.983, OS1-64 0.989; terrain VLP-16 0.980, HDL-32E 0.989; forest
+// VLP-16 0.981, OS1-64 0.991. The VLP-16 terrain frame meets the 0.98 by a few points
+// (0.9801): 40 m out the top of a 30 deg hillside rises in steps of one scan line per cell, the
+// skirts of rocks and bushes pass as ground, and the near rim of a pit is taken for a face. It
+// owes 0.979 -> 0.980 to the ground running on to the foot of a bush
+// (RobustGroundConfig::face_flat_gap_m), 0.970 -> 0.979 to the line continuation
+// (RobustGroundConfig::max_line_slope_deg) and the pit walls (RobustGroundConfig::rim_above_m).
+// In the forest frame of seed 11 at 9 s (VLP-16 0.982) the ground 5-15 m out lies about a metre
+// above the robot's, behind a rise its cells see as single scan lines: without the line
+// continuation F1 is 0.954.
 INSTANTIATE_TEST_SUITE_P(Scenes, SimGround,
                          ::testing::Values(Case{sim::SceneKind::kLawn, "vlp16", 1.0, 0.98},
                                            Case{sim::SceneKind::kLawn, "os1-64", 4.0, 0.986},
-                                           Case{sim::SceneKind::kTerrain, "vlp16", 1.0, 0.977},
+                                           Case{sim::SceneKind::kTerrain, "vlp16", 1.0, 0.98},
                                            Case{sim::SceneKind::kTerrain, "hdl32e", 6.0, 0.987},
                                            Case{sim::SceneKind::kForest, "vlp16", 1.0, 0.98},
                                            Case{sim::SceneKind::kForest, "os1-64", 5.0, 0.989},

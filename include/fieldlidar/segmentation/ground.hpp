@@ -43,8 +43,9 @@ struct RobustGroundConfig {
   double max_step_m = 0.12;     ///< height jump allowed between neighbouring ground cells
   double max_bend_deg = 6.0;    ///< change of slope allowed from one ground cell to the next
   /// Beyond the reach of the plane fits, where a cell holds a single scan line: steepest rise
-  /// from one ground line to the next accepted (deg; 0 = off). Sensors of up to 32 rings only.
-  double max_line_slope_deg = 30.0;
+  /// from one ground line to the next accepted (deg; 0 = off): about the angle of repose of
+  /// soil and gravel, steeper is a face. Sensors of up to 32 rings only.
+  double max_line_slope_deg = 35.0;
   /// and at most this many cell lengths between the two lines (a longer gap is a shadow).
   double line_reach_cells = 3.0;
   double max_flatness_m = 0.08;  ///< sqrt of the smallest eigenvalue of a ground fit
@@ -93,9 +94,13 @@ struct RobustGroundConfig {
   double face_back_top_m = 0.6;    ///< m, largest rise
   double face_back_run_m = -0.03;  ///< m, the upper return at least this much nearer
   double face_back_reach_m = 0.3;  ///< m, and at most this much nearer
-  /// m: the lower return stays ground when it lies within this height of the return below it in
-  /// the column (flat ground running on under an overhang); < 0: never.
+  /// The lower return of a face or an undercut stays ground when the ground runs on to it: it
+  /// lies within face_back_flat_m of the height of the return below it in the column (< 0:
+  /// never), at most face_flat_gap_m farther out. Farther, the two are separated by a shadow and
+  /// the lower return may as well be the base of a post or trunk (the foot of a bush standing on
+  /// open ground is 1-2.5 m beyond the ring below it at 5-15 m on a VLP-16).
   double face_back_flat_m = 0.03;
+  double face_flat_gap_m = 2.5;
 };
 
 struct GroundConfig {
