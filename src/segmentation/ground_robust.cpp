@@ -409,6 +409,18 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
           continuous = by_line;
         }
       }
+      // Behind a crest: the ground between falls out of sight and reappears lower, at least
+      // descent_gap_m beyond the last ground cell. The drop continues the ground when it is no
+      // steeper than the steepest ground plane and, for a single scan line, nothing stands on the
+      // line in its cell (the top of a bush down the slope). Nearer drops are pits: the chain
+      // stays at the rim level to reach the far rim.
+      if (!continuous && anchored && fit.elevation < std::min(predicted, ref_z) &&
+          r_mid - ref_r >= config.descent_gap_m &&
+          ref_z - fit.elevation <= config.max_step_m + tan_slope * (r_mid - ref_r) &&
+          (!plane.line_only || line_of(c).alone)) {
+        continuous = true;
+        fit.predicted = fit.elevation;  // no pit walls above the cell's own plane
+      }
       const bool flat = plane.flatness <= config.max_flatness_m;
       if (continuous && plane.upright && flat) {
         fit.state = CellState::kGround;

@@ -48,6 +48,11 @@ struct RobustGroundConfig {
   double max_line_slope_deg = 35.0;
   /// and at most this many cell lengths between the two lines (a longer gap is a shadow).
   double line_reach_cells = 3.0;
+  /// A cell lower than the last ground cell of its sector, at least this far beyond it (m), is
+  /// the ground falling away behind a crest and continues the ground, down to max_slope_deg
+  /// from the last ground cell; nearer, a drop is a pit or a ditch and the ground stays at the
+  /// rim level (inf = off).
+  double descent_gap_m = 6.0;
   double max_flatness_m = 0.08;  ///< sqrt of the smallest eigenvalue of a ground fit
   double ground_above_m = 0.15;  ///< points up to this above the local plane are ground
   double ground_below_m = 1.0;   ///< and down to this below it
