@@ -1,5 +1,6 @@
 // Ground segmentation on simulated scenes, where the truth is exact.
 
+#include <algorithm>
 #include <cstdio>
 
 #include <gtest/gtest.h>
@@ -74,6 +75,45 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SimGround,
                              if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            return s;
                          });
+
+// The frames above are single frames. Over eight more VLP-16 frames per scene (seeds 21-24 at
+// 2 s and 7 s) the typical F1 is lower on the terrain and forest scenes than on the asserted
+// frames. Measured: lawn mean 0.9856 (0.9805-0.9909), terrain mean 0.9733 (0.9670-0.9804),
+// forest mean 0.9737 (0.9476-0.9844). In the worst forest frame (seed 24, 7 s) the ground falls
+// away at 10 deg ahead of the robot: 10-15 m out a scan line lies 1.1 m below the one 6 m
+// nearer, one line per cell, beyond the bend tolerance and short of the descent gap.
+struct Spread {
+  sim::SceneKind kind;
+  double min_mean_f1, min_f1;
+};
+
+class SimGroundSpread : public ::testing::TestWithParam<Spread> {};
+
+TEST_P(SimGroundSpread, RobustF1OverSeedsAndTimes) {
+  const Spread c = GetParam();
+  const SensorModel vlp = *SensorModel::preset("vlp16");
+  double sum = 0, worst = 1;
+  int n = 0;
+  for (std::uint64_t seed : {21, 22, 23, 24})
+    for (double t0 : {2.0, 7.0}) {
+      const GroundScore s = sim_score(c.kind, vlp, t0, seed);
+      std::printf("%s vlp16 seed %d t %.0f: P %.4f R %.4f F1 %.4f\n",
+                  sim::to_string(c.kind).c_str(), int(seed), t0, s.precision, s.recall, s.f1);
+      sum += s.f1;
+      worst = std::min(worst, s.f1);
+      ++n;
+    }
+  std::printf("%s vlp16: mean F1 %.4f, worst %.4f over %d frames\n", sim::to_string(c.kind).c_str(),
+              sum / n, worst, n);
+  EXPECT_GE(sum / n, c.min_mean_f1);
+  EXPECT_GE(worst, c.min_f1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, SimGroundSpread,
+                         ::testing::Values(Spread{sim::SceneKind::kLawn, 0.984, 0.979},
+                                           Spread{sim::SceneKind::kTerrain, 0.972, 0.965},
+                                           Spread{sim::SceneKind::kForest, 0.972, 0.945}),
+                         [](const auto& info) { return sim::to_string(info.param.kind); });
 
 }  // namespace
 }  // namespace fieldlidar::segmentation
