@@ -43,6 +43,11 @@ void run(const EvalOptions& o) {
   const segmentation::GroundResult r = segmentation::segment_ground(cloud, sensor, cfg);
   const segmentation::GroundScore s =
       segmentation::score_ground(cloud, r.is_ground, truth, ground_classes, ignored);
+  if (s.true_positive + s.false_negative == 0)
+    throw Error("eval-ground: no scored point of " + o.truth + " is ground under the " + o.classes +
+                " class ids; are they " +
+                (o.classes == "rellis" ? "SemanticKITTI ids (--classes semantickitti)?"
+                                       : "RELLIS-3D ids (--classes rellis)?"));
   if (o.json) {
     nlohmann::json j;
     j["file"] = o.input;

@@ -166,6 +166,51 @@ TEST(Ground, FollowsTheGroundFallingAwayBehindACrest) {
   EXPECT_GT(with.f1, 0.999);
 }
 
+TEST(Ground, LitterUnderLowFoliageIsNotGroundOnADenseSensor) {
+  // An OS1-64 1.2 m above flat ground. 5.5-6.5 m out, a patch of leaf litter 8 cm deep under
+  // the low crown of a shrub: 4 cm leaves every 12 cm, 0.25-0.55 m above the litter, through
+  // which the beams reach the litter. Behind the sensor, a hedge cut 5 cm above the ground.
+  const double h = 1.2, litter = 0.08;
+  const auto in_patch = [](double x, double y) { return x > 5.5 && x < 6.5 && std::abs(y) < 0.5; };
+  auto ground = [&](double x, double y) { return -h + (in_patch(x, y) ? litter : 0.0); };
+  std::vector<Box> boxes;
+  for (double x = 5.56; x < 6.5; x += 0.12)
+    for (double y = -0.44; y < 0.5; y += 0.12)
+      for (double z = 0.25; z < 0.6; z += 0.1)
+        boxes.push_back({{x - 0.02, y - 0.02, -h + litter + z - 0.02},
+                         {x + 0.02, y + 0.02, -h + litter + z + 0.02}});
+  boxes.push_back({{-7.0, -1.0, -h + 0.05}, {-5.0, 1.0, -h + 0.8}});
+  SensorModel os = SensorModel::os1_64();
+  const PointCloud cloud = synthetic_scan(os, ground, boxes, true, 0.005);
+  RobustGroundConfig off;
+  off.under_veg_min_returns = 0;
+  const GroundResult with = ground_robust(cloud, os), without = ground_robust(cloud, os, off);
+  std::size_t litter_n = 0, litter_kept = 0, litter_kept_before = 0, other_lost = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (cloud.labels[i] != 1) continue;
+    const Point& p = cloud.points[i];
+    if (in_patch(p.x, p.y) && p.z > -h + 0.05) {
+      ++litter_n;
+      litter_kept += with.is_ground[i];
+      litter_kept_before += without.is_ground[i];
+    } else {
+      other_lost += without.is_ground[i] && !with.is_ground[i];
+    }
+  }
+  std::printf(
+      "litter: %zu returns, %zu taken for ground (%zu without the test); other ground "
+      "lost %zu\n",
+      litter_n, litter_kept, litter_kept_before, other_lost);
+  // Measured: 81 litter returns, all taken for ground by the plane tests alone, 23 with the
+  // undergrowth test (it only looks at returns on or above their polar cell's plane, for speed:
+  // where the litter fills a cell, the plane runs through it); no other ground return lost (the
+  // hedge's foot included).
+  ASSERT_GT(litter_n, 50u);
+  EXPECT_GT(litter_kept_before, litter_n * 9 / 10);
+  EXPECT_LT(litter_kept, litter_n / 3);
+  EXPECT_EQ(other_lost, 0u);
+}
+
 TEST(Ground, InvalidPointsAreNeverGround) {
   SensorModel vlp = SensorModel::vlp16();
   PointCloud cloud = synthetic_scan(
@@ -204,14 +249,19 @@ class RellisGround : public ::testing::Test {
 };
 
 TEST_F(RellisGround, RobustBeatsPatchworkPlusPlus) {
-  // Patchwork++ with its defaults: P 0.914, R 0.970, F1 0.942 on this frame. The target
-  // is F1 >= 0.96; measured: P 0.942, R 0.971, F1 0.956. Most of the remaining false positives
-  // are returns at ground level in front of the tree line that the truth labels "tree".
+  // Patchwork++ with its defaults: P 0.914, R 0.970, F1 0.942 on this frame; the target
+  // is F1 >= 0.96. Measured: P 0.964, R 0.961, F1 0.963 (without the undergrowth test P 0.942,
+  // R 0.971, F1 0.956: the litter under a low tree crown that the truth labels "tree"). The
+  // recall stays under Patchwork++'s: tall grass 0.1-0.4 m high, and a 0.9 m concrete structure
+  // the truth labels as ground, are not ground here.
   const GroundScore s = score(ground_robust(cloud, sensor));
-  EXPECT_GE(s.f1, 0.955) << "P " << s.precision << " R " << s.recall;
-  EXPECT_GT(s.f1, 0.942);  // better than Patchwork++
-  EXPECT_GE(s.precision, 0.94);
-  EXPECT_GE(s.recall, 0.965);
+  EXPECT_GE(s.f1, 0.96) << "P " << s.precision << " R " << s.recall;
+  EXPECT_GE(s.precision, 0.96);
+  EXPECT_GE(s.recall, 0.958);
+  RobustGroundConfig no_undergrowth;
+  no_undergrowth.under_veg_min_returns = 0;
+  const GroundScore before = score(ground_robust(cloud, sensor, no_undergrowth));
+  EXPECT_LT(before.f1, s.f1 - 0.004);
 }
 
 TEST_F(RellisGround, SeedMethodsScoreAsMeasured) {

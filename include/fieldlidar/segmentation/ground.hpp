@@ -106,6 +106,20 @@ struct RobustGroundConfig {
   /// open ground is 1-2.5 m beyond the ring below it at 5-15 m on a VLP-16).
   double face_back_flat_m = 0.03;
   double face_flat_gap_m = 2.5;
+  /// Undergrowth test, sensors of more than 32 rings: a ground return at least
+  /// under_veg_raised_m above the local ground (the lower quartile of the ground returns in the
+  /// 3 x 3 square cells of under_veg_ground_cell_m around it) and under_veg_above_plane_m above
+  /// its polar cell's plane, with at least under_veg_min_returns non-ground returns over it --
+  /// within under_veg_radius_m horizontally, under_veg_raised_m to under_veg_top_m higher -- lies
+  /// in leaf litter, under a shrub's skirt or in the low crown of a tree, and is not ground
+  /// (0 returns = test off). Ground running on under a hedge lies at the ground level and stays
+  /// ground.
+  int under_veg_min_returns = 12;
+  double under_veg_radius_m = 0.3;
+  double under_veg_raised_m = 0.05;
+  double under_veg_above_plane_m = 0.0;
+  double under_veg_top_m = 0.6;
+  double under_veg_ground_cell_m = 1.0;
 };
 
 struct GroundConfig {
