@@ -350,13 +350,14 @@ class CellBuckets {
   std::vector<CellPoint> pts_;
 };
 
-// Undergrowth test (dense beam tables): a ground return standing under_veg_raised_m or more
-// above the local ground -- the lower quartile of the ground returns in the 3 x 3 cells of
-// under_veg_ground_cell_m around it, robust to the litter itself -- with at least
-// under_veg_min_returns non-ground returns over it (within under_veg_radius_m horizontally,
-// under_veg_raised_m to under_veg_top_m higher) lies in leaf litter, under a shrub's skirt or in
-// the low crown of a tree, not on the ground. Ground running on under a hedge lies at the ground
-// level and is kept.
+// Undergrowth test (dense beam tables): a ground return on or above its polar cell's plane and
+// under_veg_raised_m or more above the local ground -- the lower quartile of the ground returns
+// in the 3 x 3 cells of under_veg_ground_cell_m around it, robust to the litter itself -- with at
+// least under_veg_min_returns non-ground returns over it (within under_veg_radius_m
+// horizontally, under_veg_raised_m to under_veg_top_m higher) lies in leaf litter, under a
+// shrub's skirt or in the low crown of a tree, not on the ground. Ground running on under a
+// hedge lies at the ground level and is kept. Only the returns of cells with enough low
+// vegetation within reach are tested, and the local ground is found once per ground cell.
 void reject_under_vegetation(const PolarGrid& grid, const PolarCells& cells,
                              const std::vector<CellFit>& fits, const RobustGroundConfig& config,
                              GroundResult& result) {
@@ -475,9 +476,13 @@ void reject_under_vegetation(const PolarGrid& grid, const PolarCells& cells,
           zs.push_back(q.z);
         return true;
       });
-      const auto quartile = zs.begin() + std::ptrdiff_t(zs.size() / 4);
-      std::nth_element(zs.begin(), quartile, zs.end());
-      base = *quartile;
+      // Too few ground returns sampled around to tell: not rejected.
+      base = std::numeric_limits<float>::infinity();
+      if (!zs.empty()) {
+        const auto quartile = zs.begin() + std::ptrdiff_t(zs.size() / 4);
+        std::nth_element(zs.begin(), quartile, zs.end());
+        base = *quartile;
+      }
     }
     if (cells.xyz[covered[n]].z - base >= raised) rejected.push_back(cells.order[covered[n]]);
   }
