@@ -33,6 +33,12 @@ struct CellFit {
   float height_above(const P& p) const {
     return gx * p.x + gy * p.y + p.z + g0;
   }
+  /// Height above the cell's ground: its plane in a ground cell, else the ground expected from
+  /// the neighbouring cells (m).
+  template <class P>
+  float height_over_ground(const P& p) const {
+    return state == CellState::kGround ? height_above(p) : p.z - predicted;
+  }
 };
 
 // The fit's own tests, used once.
@@ -307,6 +313,11 @@ void reject_face_feet(const PolarGrid& grid, const PolarCells& cells,
     }
 }
 
+// Radial length of the polar cells at range r_m (m).
+double cell_length_m(const RobustGroundConfig& config, double r_m) {
+  return std::max(config.min_cell_m, config.cell_growth * r_m);
+}
+
 // Points bucketed by square 2D cell through a hash of the cell's indices: one counting sort
 // into the hash's slots, so that the points of a slot are contiguous. Two cells sharing a slot
 // only cost the queries a few more tests.
@@ -376,33 +387,38 @@ void reject_under_vegetation(const PolarGrid& grid, const PolarCells& cells,
     const auto idx = cells.members(c);
     for (std::size_t k = 0; k < pts.size(); ++k) {
       if (result.is_ground[idx[k]]) continue;
-      const float h =
-          fit.state == CellState::kGround ? fit.height_above(pts[k]) : pts[k].z - fit.predicted;
-      if (h < low_top) {
+      if (fit.height_over_ground(pts[k]) < low_top) {
         low_pts.push_back(pts[k]);
         ++low_in[c];
       }
     }
   }
   if (low_pts.size() < min_returns) return;
-  // Cells with enough of them within reach: one bin and as many sectors either way as
-  // under_veg_radius_m spans at the bin's inner edge.
   const int sectors = grid.sectors(), bins = grid.bins();
   const double sector_rad = 2.0 * std::numbers::pi / sectors;
+  // Sectors either way that a distance spans at bin b's inner edge.
+  const auto sectors_spanned = [&](int b, double distance_m) {
+    const double centre = grid.bin_centre_m(b);
+    const double inner = std::max(0.5, centre - 0.5 * cell_length_m(config, centre));
+    return std::min(sectors / 2, int(std::ceil(distance_m / (inner * sector_rad))));
+  };
+  // Calls f(cell) for the cells up to bin_span bins and sector_span sectors from (b, s).
+  const auto for_cells_around = [&](int b, int s, int bin_span, int sector_span, auto&& f) {
+    for (int db = -bin_span; db <= bin_span; ++db)
+      if (b + db >= 0 && b + db < bins)
+        for (int ds = -sector_span; ds <= sector_span; ++ds)
+          f(grid.cell(b + db, (s + ds + sectors) % sectors));
+  };
+  // Cells with enough of them within reach: one bin and as many sectors either way as
+  // under_veg_radius_m spans.
   std::vector<std::uint8_t> within_reach(fits.size(), 0);
   for (int b = 0; b < bins; ++b) {
-    const double centre = grid.bin_centre_m(b);
-    const double inner =
-        std::max(0.5, centre - 0.5 * std::max(config.min_cell_m, config.cell_growth * centre));
-    const int span = std::min(sectors / 2, int(std::ceil(radius / (inner * sector_rad))));
+    const int span = sectors_spanned(b, radius);
     for (int s = 0; s < sectors; ++s) {
       const std::size_t c = grid.cell(b, s);
       if (fits[c].state == CellState::kEmpty) continue;
       std::uint32_t n = 0;
-      for (int db = -1; db <= 1 && n < min_returns; ++db)
-        if (b + db >= 0 && b + db < bins)
-          for (int ds = -span; ds <= span; ++ds)
-            n += low_in[grid.cell(b + db, (s + ds + sectors) % sectors)];
+      for_cells_around(b, s, 1, span, [&](std::size_t cc) { n += low_in[cc]; });
       within_reach[c] = n >= min_returns;
     }
   }
@@ -436,19 +452,11 @@ void reject_under_vegetation(const PolarGrid& grid, const PolarCells& cells,
   constexpr std::size_t kGroundSample = 4;
   const double ground_reach = 2.0 * config.under_veg_ground_cell_m;
   std::vector<std::uint8_t> near_covered(fits.size(), 0);
-  for (std::size_t n = 0; n < covered_cells.size(); ++n) {
-    const std::size_t c = covered_cells[n];
+  for (const std::size_t c : covered_cells) {
     const int b = int(c % std::size_t(bins)), s = int(c / std::size_t(bins));
-    const double centre = grid.bin_centre_m(b);
-    const double inner =
-        std::max(0.5, centre - 0.5 * std::max(config.min_cell_m, config.cell_growth * centre));
-    const int span = std::min(sectors / 2, int(std::ceil(ground_reach / (inner * sector_rad))));
-    const int bin_span =
-        int(std::ceil(ground_reach / std::max(config.min_cell_m, config.cell_growth * centre)));
-    for (int db = -bin_span; db <= bin_span; ++db)
-      if (b + db >= 0 && b + db < bins)
-        for (int ds = -span; ds <= span; ++ds)
-          near_covered[grid.cell(b + db, (s + ds + sectors) % sectors)] = 1;
+    const int bin_span = int(std::ceil(ground_reach / cell_length_m(config, grid.bin_centre_m(b))));
+    for_cells_around(b, s, bin_span, sectors_spanned(b, ground_reach),
+                     [&](std::size_t cc) { near_covered[cc] = 1; });
   }
   std::vector<CellPoint> ground_pts;
   std::size_t seen = 0;
@@ -586,7 +594,7 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
       if (!continuous && anchored && plane.line_only && ref_line && tan_line > 0) {
         const LineStats line = line_of(c);
         const double run = double(line.rho) - line_of(ref_cell).rho;
-        const double cell_len = std::max(config.min_cell_m, config.cell_growth * r_mid);
+        const double cell_len = cell_length_m(config, r_mid);
         if (line.alone && run > 0.3 && run <= config.line_reach_cells * cell_len) {
           line_grad = (fit.elevation - ref_z) / run;
           by_line = line_grad >= 0 && line_grad <= tan_line &&
@@ -699,7 +707,7 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
     for (std::size_t k = 0; k < pts.size(); ++k) {
       const CellPoint& p = pts[k];
       const std::uint32_t i = idx[k];
-      const float h = fit.state == CellState::kGround ? fit.height_above(p) : p.z - fit.predicted;
+      const float h = fit.height_over_ground(p);
       if (h >= -below && (h <= cell_above || (pit_walls && p.z - fit.predicted <= rim_above))) {
         result.is_ground[i] = 1;
         ++result.ground_count;
