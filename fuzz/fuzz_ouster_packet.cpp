@@ -29,12 +29,27 @@ fieldlidar::io::OusterMetadata layout(bool rng19) {
   return m;
 }
 
+// Decoders and assemblers are built once, before the first (timed) unit: their look-up tables
+// hold columns x beams entries. The assemblers are reused; finish() empties them.
+struct Fixture {
+  fieldlidar::io::OusterDecoder legacy{layout(false)};
+  fieldlidar::io::OusterDecoder rng19{layout(true)};
+  fieldlidar::io::OusterFrameAssembler legacy_frames{layout(false)};
+  fieldlidar::io::OusterFrameAssembler rng19_frames{layout(true)};
+};
+Fixture* fixture = nullptr;
+
 }  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  fixture = new Fixture();  // lives for the whole process
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
-  static const fieldlidar::io::OusterDecoder legacy(layout(false));
-  static const fieldlidar::io::OusterDecoder rng19(layout(true));
+  const auto& legacy = fixture->legacy;
+  const auto& rng19 = fixture->rng19;
   const bool use_rng19 = data[0] & 1;
   const std::span<const std::uint8_t> packet(data + 1, size - 1);
   std::vector<fieldlidar::io::OusterColumn> columns;
@@ -47,10 +62,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     (void)fieldlidar::io::decode_ouster_imu_packet(packet);
   } catch (const fieldlidar::Error&) {
   }
-  // The assemblers are reused (their look-up tables are costly to build); finish() empties them.
-  static fieldlidar::io::OusterFrameAssembler legacy_frames(layout(false));
-  static fieldlidar::io::OusterFrameAssembler rng19_frames(layout(true));
-  auto& assembler = use_rng19 ? rng19_frames : legacy_frames;
+  auto& assembler = use_rng19 ? fixture->rng19_frames : fixture->legacy_frames;
   try {
     assembler.add_packet(packet, "fuzz");
   } catch (const fieldlidar::Error&) {

@@ -52,25 +52,47 @@ OusterDecoder::OusterDecoder(OusterMetadata meta) : meta_(std::move(meta)) {
   const int w = meta_.columns_per_frame, h = meta_.pixels_per_column;
   direction_.resize(std::size_t(w) * std::size_t(h));
   offset_m_.resize(direction_.size());
-  const Eigen::Matrix3d R = meta_.lidar_to_sensor_transform.topLeftCorner<3, 3>();
-  const Eigen::Vector3d t_mm = meta_.lidar_to_sensor_transform.topRightCorner<3, 1>();
+  // Plain scalar loops with the trigonometry hoisted out of the inner loop: the tables hold
+  // columns x beams entries (up to 2048 x 128), and unoptimised (Debug, sanitizer, fuzzing) builds
+  // would otherwise spend seconds on per-entry Eigen expressions.
+  double R[3][3], t_mm[3];
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) R[r][c] = meta_.lidar_to_sensor_transform(r, c);
+    t_mm[r] = meta_.lidar_to_sensor_transform(r, 3);
+  }
   const double n_mm = meta_.lidar_origin_to_beam_origin_mm;
   constexpr double kDeg = std::numbers::pi / 180.0;
+  const std::size_t beams = std::size_t(h);
+  std::vector<double> cos_az(beams), sin_az(beams), cos_alt(beams), sin_alt(beams);
+  for (int b = 0; b < h; ++b) {
+    const double az = -meta_.beam_azimuth_deg[std::size_t(b)] * kDeg;
+    const double alt = meta_.beam_altitude_deg[std::size_t(b)] * kDeg;
+    cos_az[std::size_t(b)] = std::cos(az);
+    sin_az[std::size_t(b)] = std::sin(az);
+    cos_alt[std::size_t(b)] = std::cos(alt);
+    sin_alt[std::size_t(b)] = std::sin(alt);
+  }
   for (int c = 0; c < w; ++c) {
     // Encoder angle of column c: the sensor spins clockwise seen from above, so the angle
     // decreases as the column index grows.
     const double enc = 2.0 * std::numbers::pi * (1.0 - double(c) / w);
+    const double ce = std::cos(enc), se = std::sin(enc);
     for (int b = 0; b < h; ++b) {
-      const double az = -meta_.beam_azimuth_deg[std::size_t(b)] * kDeg;
-      const double alt = meta_.beam_altitude_deg[std::size_t(b)] * kDeg;
-      const Eigen::Vector3d dir(std::cos(enc + az) * std::cos(alt),
-                                std::sin(enc + az) * std::cos(alt), std::sin(alt));
+      const std::size_t k = std::size_t(b);
+      // cos(enc + az), sin(enc + az) by the angle-sum identities.
+      const double cea = ce * cos_az[k] - se * sin_az[k];
+      const double sea = se * cos_az[k] + ce * sin_az[k];
+      const double dir[3] = {cea * cos_alt[k], sea * cos_alt[k], sin_alt[k]};
       // The beam leaves from a point n_mm off the rotation axis at the encoder angle.
-      const Eigen::Vector3d off_mm(n_mm * std::cos(enc) - n_mm * dir.x(),
-                                   n_mm * std::sin(enc) - n_mm * dir.y(), -n_mm * dir.z());
-      const std::size_t i = std::size_t(c) * std::size_t(h) + std::size_t(b);
-      direction_[i] = (R * dir).cast<float>();
-      offset_m_[i] = ((R * off_mm + t_mm) * 1e-3).cast<float>();
+      const double off_mm[3] = {n_mm * ce - n_mm * dir[0], n_mm * se - n_mm * dir[1],
+                                -n_mm * dir[2]};
+      const std::size_t i = std::size_t(c) * std::size_t(h) + k;
+      for (int r = 0; r < 3; ++r) {
+        const double d = R[r][0] * dir[0] + R[r][1] * dir[1] + R[r][2] * dir[2];
+        const double o = R[r][0] * off_mm[0] + R[r][1] * off_mm[1] + R[r][2] * off_mm[2] + t_mm[r];
+        direction_[i][r] = float(d);
+        offset_m_[i][r] = float(o * 1e-3);
+      }
     }
   }
   std::vector<int> order(std::size_t(h), 0);
