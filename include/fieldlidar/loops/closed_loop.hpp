@@ -57,7 +57,7 @@ struct ClosedLoopResult {
   std::vector<Eigen::Vector2d> trail;  ///< the operator's estimated breadcrumbs
   bool stopped_by_command = false;
   double duration_s = 0;
-  follow::PolygonDistance boundary_error;           ///< recorded polygon vs operator_loop
+  follow::PolygonDistance boundary_error;   ///< recorded polygon vs operator_loop
   std::size_t frames_moving_too_close = 0;  ///< wheels turning while the true L < L_s
   std::size_t frames_following = 0;
   std::size_t target_switches = 0;    ///< changes of the target id after the first choice
