@@ -3,8 +3,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "fieldlidar/follow/closed_loop.hpp"
 #include "fieldlidar/follow/pipeline.hpp"
+#include "fieldlidar/loops/closed_loop.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
 
 namespace {
@@ -14,12 +14,12 @@ using namespace fieldlidar;
 /// A 10 s closed-loop run per iteration (100 frames, simulation included), reported per frame.
 void BM_ClosedLoop_10s(benchmark::State& state) {
   static const auto scene = sim::make_lawn_scene({}, 0);
-  follow::ClosedLoopConfig cfg;
+  loops::ClosedLoopConfig cfg;
   cfg.max_time_s = 10.0;
   double perception_ms = 0;
   std::size_t frames = 0;
   for (auto _ : state) {
-    const auto r = follow::run_closed_loop(scene, SensorModel::vlp16(), cfg);
+    const auto r = loops::run_closed_loop(scene, SensorModel::vlp16(), cfg);
     perception_ms += r.mean_perception_ms * double(r.rows.size());
     frames += r.rows.size();
   }

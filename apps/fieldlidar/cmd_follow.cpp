@@ -11,8 +11,8 @@
 
 #include "commands.hpp"
 #include "fieldlidar/core/error.hpp"
-#include "fieldlidar/follow/closed_loop.hpp"
 #include "fieldlidar/io/file_util.hpp"
+#include "fieldlidar/loops/closed_loop.hpp"
 #include "follow_job.hpp"
 #include "support/canvas.hpp"
 
@@ -63,7 +63,7 @@ nlohmann::json config_json(const follow::FollowConfig& c) {
   return j;
 }
 
-void write_picture(const fs::path& path, const sim::Scene& scene, const follow::ClosedLoopResult& r,
+void write_picture(const fs::path& path, const sim::Scene& scene, const loops::ClosedLoopResult& r,
                    const std::string& title, bool force) {
   TopDownCanvas canvas(scene.min_m(), scene.max_m(), 1400);
   // Lawn: the operator's true loop, then what the mower did and recorded.
@@ -90,7 +90,7 @@ void write_picture(const fs::path& path, const sim::Scene& scene, const follow::
 
 void run_follow(const FollowOptions& o) {
   if (o.scene != "lawn") throw Error("--scene '" + o.scene + "': only 'lawn' is supported");
-  const auto scenario = follow::scenario_from_string(o.scenario);
+  const auto scenario = loops::scenario_from_string(o.scenario);
   if (!scenario)
     throw Error("--scenario '" + o.scenario +
                 "': expected default, crossing, stop, fast or occluded");
@@ -105,7 +105,7 @@ void run_follow(const FollowOptions& o) {
                  png = dir / "follow.png";
   for (const auto& p : {geojson, csv, log, summary, png}) io::check_writable(p, o.force);
 
-  follow::ClosedLoopConfig cfg;
+  loops::ClosedLoopConfig cfg;
   if (o.target_id >= 0) cfg.follow.target_id = std::uint32_t(o.target_id);
   if (o.max_time_s > 0) cfg.max_time_s = o.max_time_s;
   if (o.safe_distance_m > 0) cfg.follow.safety.safe_distance_m = o.safe_distance_m;
@@ -113,12 +113,12 @@ void run_follow(const FollowOptions& o) {
   if (cfg.follow.safety.safe_distance_m >= cfg.follow.safety.max_distance_m)
     throw Error(fmt::format("--safe-distance {} m must be below --max-distance {} m",
                             cfg.follow.safety.safe_distance_m, cfg.follow.safety.max_distance_m));
-  const auto scene = sim::make_lawn_scene(follow::lawn_config(*scenario), o.seed);
-  const auto r = follow::run_closed_loop(scene, *sensor, cfg);
+  const auto scene = sim::make_lawn_scene(loops::lawn_config(*scenario), o.seed);
+  const auto r = loops::run_closed_loop(scene, *sensor, cfg);
 
   write_text(geojson, follow::boundary_geojson(r.boundary, "world"), o.force);
   write_text(csv, follow::boundary_csv(r.boundary), o.force);
-  write_text(log, follow::log_csv(r.rows), o.force);
+  write_text(log, loops::log_csv(r.rows), o.force);
   nlohmann::json s;
   s["scene"] = o.scene;
   s["scenario"] = o.scenario;

@@ -26,7 +26,7 @@ struct FollowConfig {
   /// The robust ground without its undercut test (RobustGroundConfig::face_back_*): at a
   /// walking person's feet the beam above hits the shin nearer than the ground behind, which is
   /// the undercut pattern of a shrub; with it on, the closed loop lost the operator after the
-  /// shed detour (tests/follow/test_closed_loop.cpp, occluded scenario, never resumed).
+  /// shed detour (tests/loops/test_closed_loop.cpp, occluded scenario, never resumed).
   segmentation::GroundConfig ground = [] {
     segmentation::GroundConfig g;
     g.robust.face_back_rise_m = std::numeric_limits<double>::infinity();

@@ -5,9 +5,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "fieldlidar/follow/closed_loop.hpp"
+#include "fieldlidar/loops/closed_loop.hpp"
 
-namespace fieldlidar::follow {
+namespace fieldlidar::loops {
 namespace {
 
 ClosedLoopResult run(Scenario s) {
@@ -86,7 +86,7 @@ TEST(ClosedLoop, OperatorWalkingTooFastStopsTheMowerBeyondTheMaximumDistance) {
   const auto r = run(Scenario::kFast);
   std::size_t too_far = 0;
   for (const auto& row : r.rows)
-    if (row.state == FollowState::kTooFar) {
+    if (row.state == follow::FollowState::kTooFar) {
       ++too_far;
       EXPECT_EQ(row.wheel_left, 0.0);
       EXPECT_EQ(row.wheel_right, 0.0);
@@ -108,4 +108,4 @@ TEST(ClosedLoop, OcclusionStopsTheMowerWithinOneFrameAndItResumes) {
 }
 
 }  // namespace
-}  // namespace fieldlidar::follow
+}  // namespace fieldlidar::loops

@@ -1,4 +1,4 @@
-#include "fieldlidar/follow/closed_loop.hpp"
+#include "fieldlidar/loops/closed_loop.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -6,7 +6,14 @@
 
 #include "fieldlidar/sim/lidar_simulator.hpp"
 
-namespace fieldlidar::follow {
+namespace fieldlidar::loops {
+
+using follow::compare_closed;
+using follow::FollowPipeline;
+using follow::FollowState;
+using follow::Pose2;
+using follow::predict_pose;
+using follow::WheelCommand;
 
 std::string to_string(Scenario s) {
   switch (s) {
@@ -226,4 +233,4 @@ std::string log_csv(const std::vector<LogRow>& rows) {
   return s;
 }
 
-}  // namespace fieldlidar::follow
+}  // namespace fieldlidar::loops

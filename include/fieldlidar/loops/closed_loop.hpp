@@ -15,7 +15,7 @@
 #include "fieldlidar/sim/scene.hpp"
 #include "fieldlidar/sim/scenes.hpp"
 
-namespace fieldlidar::follow {
+namespace fieldlidar::loops {
 
 enum class Scenario { kDefault, kCrossing, kStop, kFast, kOccluded };
 std::string to_string(Scenario s);
@@ -25,7 +25,7 @@ std::optional<Scenario> scenario_from_string(const std::string& name);
 sim::LawnConfig lawn_config(Scenario s);
 
 struct ClosedLoopConfig {
-  FollowConfig follow;
+  follow::FollowConfig follow;
   double max_time_s = 0;        ///< 0: 1.6 x the operator's lap time + 20 s
   double stop_fraction = 0.85;  ///< the stop command comes once this share of the loop is recorded
   double stop_radius_m = 0.4;   ///< ... and the mower is back within this of the boundary start
@@ -42,7 +42,7 @@ struct LogRow {
   double distance_m = NAN;          ///< L used by the safety rule (estimated), NaN when lost
   double true_distance_m = 0;
   double wheel_left = 0, wheel_right = 0;  ///< commanded wheel speeds (m/s)
-  FollowState state = FollowState::kIdle;
+  follow::FollowState state = follow::FollowState::kIdle;
   std::int64_t target_id = -1;
   std::uint32_t target_points = 0;  ///< returns on the operator in this sweep (truth)
   std::size_t people_detected = 0;
@@ -51,13 +51,13 @@ struct LogRow {
 
 struct ClosedLoopResult {
   std::vector<LogRow> rows;
-  BoundaryPolygon boundary;
+  follow::BoundaryPolygon boundary;
   std::vector<Eigen::Vector2d> operator_loop;  ///< truth: the operator's closed path
   std::vector<Eigen::Vector2d> mower_path;
   std::vector<Eigen::Vector2d> trail;  ///< the operator's estimated breadcrumbs
   bool stopped_by_command = false;
   double duration_s = 0;
-  PolygonDistance boundary_error;           ///< recorded polygon vs operator_loop
+  follow::PolygonDistance boundary_error;   ///< recorded polygon vs operator_loop
   std::size_t frames_moving_too_close = 0;  ///< wheels turning while the true L < L_s
   std::size_t frames_following = 0;
   std::size_t target_switches = 0;    ///< changes of the target id after the first choice
@@ -80,4 +80,4 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
 /// wheel_left,wheel_right,state,target_id,target_points,people_detected
 std::string log_csv(const std::vector<LogRow>& rows);
 
-}  // namespace fieldlidar::follow
+}  // namespace fieldlidar::loops
