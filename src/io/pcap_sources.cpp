@@ -26,6 +26,12 @@ std::string sizes_seen(const std::map<std::size_t, std::size_t>& sizes) {
   return s.empty() ? "no UDP datagrams" : s;
 }
 
+/// The capture reader's warning (a truncated tail), if any.
+std::vector<std::string> reader_warnings(const PcapReader& reader) {
+  if (const auto& t = reader.truncated()) return {*t};
+  return {};
+}
+
 /// A finished sweep of a capture as a Frame (stamp = the sweep's own stamp).
 Frame sweep_frame(PointCloud cloud, bool complete, std::size_t index,
                   const std::filesystem::path& capture) {
@@ -77,6 +83,7 @@ class VelodynePcapSource final : public FrameSource {
   std::string format() const override { return "velodyne-pcap"; }
   std::optional<SensorModel> sensor() const override { return sensor_; }
   double progress() const override { return reader_.progress(); }
+  std::vector<std::string> warnings() const override { return reader_warnings(reader_); }
 
  private:
   PcapReader reader_;
@@ -131,6 +138,7 @@ class OusterPcapSource final : public FrameSource {
   std::string format() const override { return "ouster-pcap"; }
   std::optional<SensorModel> sensor() const override { return sensor_; }
   double progress() const override { return reader_.progress(); }
+  std::vector<std::string> warnings() const override { return reader_warnings(reader_); }
   std::vector<ImuSample> imu_until(double until_s) override {
     std::vector<ImuSample> out;
     while (!imu_.empty() && imu_.front().stamp_s <= until_s) {
