@@ -44,8 +44,6 @@ struct PlyElement {
   bool has_list = false;
 };
 
-/// Checks the header strictly and bounds every element count by the bytes that follow it, so
-/// that PCL's parser never sees a count it would allocate for but cannot read.
 /// The origin of a `comment fieldlidar origin_m X Y Z` line, if `tok` is one.
 std::optional<Eigen::Vector3d> origin_comment(const std::vector<std::string_view>& tok) {
   if (tok.size() != 6 || tok[1] != kOriginComment[0] || tok[2] != kOriginComment[1])
@@ -59,6 +57,8 @@ std::optional<Eigen::Vector3d> origin_comment(const std::vector<std::string_view
   return o;
 }
 
+/// Checks the header strictly and bounds every element count by the bytes that follow it, so
+/// that PCL's parser never sees a count it would allocate for but cannot read.
 /// Returns the cloud's origin_m (from the fieldlidar origin comment; zero without one).
 Eigen::Vector3d check_header(std::string_view text, std::uint64_t file_size,
                              const std::string& source) {
