@@ -114,5 +114,17 @@ TEST(TruncatedCapture, ReaderStopsAtTheCutAndSaysWhere) {
   }
 }
 
+TEST(TruncatedCapture, CutBeforeAnyDatagramIsAnErrorThatSaysSo) {
+  const std::string name = "velodyne_pcap/hdl32_example.pcap";
+  FIELDLIDAR_REQUIRE_DATA(name);
+  const auto cut = cut_copy(test::data_file(name), 500, test::temp_dir("truncated_first"));
+  try {
+    io::FrameSource::open(cut);
+    FAIL() << "a capture without one whole datagram cannot be read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("ends inside record 0"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace fieldlidar
