@@ -25,7 +25,8 @@ function(fieldlidar_add_module name)
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_link_libraries(fieldlidar_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
   set_target_properties(fieldlidar_${name} PROPERTIES EXPORT_NAME ${name}
-    OUTPUT_NAME fieldlidar_${name} VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR})
+    OUTPUT_NAME fieldlidar_${name} VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}
+    INSTALL_RPATH "$ORIGIN")
   fieldlidar_target_options(fieldlidar_${name})
   install(TARGETS fieldlidar_${name} EXPORT fieldlidarTargets
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # One command on a fresh Debian 12 machine: install dependencies, then build and run the whole test
 # suite: sanitizer build (ASan + UBSan, Debug), fuzz targets for a short budget (clang/libFuzzer),
-# the installed-package consumer example, and the Release build's tests last. Tests labelled
-# "slow" (whole closed-loop runs, real-scan evaluations) and the end-to-end follow command run in
-# the Release stage only: under the sanitizers they take minutes each.
+# the installed package in a temporary prefix (scripts/check_install.sh: the CLI, `legs` with its
+# shipped classifier and the consumer example, without LD_LIBRARY_PATH), and the Release build's
+# tests last. Tests labelled "slow" (whole closed-loop runs, real-scan evaluations) and the
+# end-to-end follow command run in the Release stage only: under the sanitizers they take minutes
+# each.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
@@ -32,12 +34,8 @@ fi
 
 echo "== Release build =="
 scripts/build.sh
-echo "== consumer example against the installed package =="
-rm -rf build/install build/consumer
-cmake --install build/release --prefix "$PWD/build/install" >/dev/null
-cmake -S examples/consumer -B build/consumer -G Ninja -DCMAKE_PREFIX_PATH="$PWD/build/install" >/dev/null
-cmake --build build/consumer
-LD_LIBRARY_PATH="$PWD/build/install/lib" build/consumer/consumer_example
+echo "== the installed package in a temporary prefix (no LD_LIBRARY_PATH) =="
+scripts/check_install.sh build/release
 
 echo "== Release tests =="
 ctest --test-dir build/release --output-on-failure -j "$jobs" -LE fuzz

@@ -15,6 +15,7 @@
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/frame_source.hpp"
+#include "support/warnings.hpp"
 
 namespace fieldlidar::app {
 
@@ -53,6 +54,29 @@ class ProgressBar {
   bool enabled_;
 };
 
+/// Tells where a georeferenced cloud's origin went (PointCloud::origin_m: a LAS offset): kept in
+/// PCD and PLY, which store the points relative to it; lost in KITTI .bin, which has no header.
+void report_origin(const PointCloud& cloud, const std::string& output) {
+  if (cloud.origin_m.isZero()) return;
+  const auto& o = cloud.origin_m;
+  const std::string where = fmt::format("({:.3f}, {:.3f}, {:.3f}) m", o.x(), o.y(), o.z());
+  const auto format = io::cloud_format_of(output);
+  if (format == io::CloudFormat::kKittiBin) {
+    warn(
+        "KITTI .bin has no place for the georeference: the points are written relative to the "
+        "origin " +
+        where + " (absolute = origin + point), which is not kept; write .pcd or " +
+        ".ply to keep it");
+    return;
+  }
+  fmt::print(
+      "kept the georeference: points relative to the origin {} (absolute = origin + point), "
+      "stored as the {}\n",
+      where,
+      format == io::CloudFormat::kPly ? "PLY header comment 'fieldlidar origin_m X Y Z'"
+                                      : "PCD VIEWPOINT translation");
+}
+
 bool single_file_conversion(const ConvertOptions& o) {
   namespace fs = std::filesystem;
   const fs::path in(o.input);
@@ -89,6 +113,7 @@ void convert_stream(const ConvertOptions& o) {
     }
     const fs::path out = dir / fmt::format("{:06d}.{}", written, o.format);
     io::write_cloud(out, f->cloud, w);
+    if (written == 0) report_origin(f->cloud, out.string());
     if (!times.is_open()) {
       times.open(times_path);
       if (!times) throw Error(times_path.string() + ": cannot write");
@@ -99,6 +124,7 @@ void convert_stream(const ConvertOptions& o) {
     bar.update(source->progress(), written);
   }
   bar.done();
+  warn_source_losses(*source);
   fmt::print("wrote {} frames ({} points) as {} to {}/ with their stamps in times.txt\n", written,
              points, o.format, o.output);
   if (skipped)
@@ -141,6 +167,7 @@ void add_convert_command(CLI::App& app) {
     w.compressed = opts->compressed;
     io::write_cloud(opts->output, cloud, w);
     fmt::print("wrote {} points to {}\n", cloud.size(), opts->output);
+    report_origin(cloud, opts->output);
   });
 }
 

@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <fmt/core.h>
@@ -15,6 +16,7 @@
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/io/las.hpp"
 #include "fieldlidar/io/rosbag_reader.hpp"
+#include "support/warnings.hpp"
 
 namespace fieldlidar::app {
 
@@ -78,8 +80,10 @@ nlohmann::json describe(const InfoOptions& opts) {
   Bounds3 bounds;
   std::optional<std::pair<std::uint32_t, std::uint32_t>> organized;
   std::map<std::uint32_t, std::size_t> label_counts;
+  std::optional<Eigen::Vector3d> origin;  // a georeferenced cloud's origin (PointCloud::origin_m)
   while (auto f = source->next()) {
     const PointCloud& c = f->cloud;
+    if (!c.origin_m.isZero()) origin = c.origin_m;
     for (const auto label : c.labels) ++label_counts[label];
     (f->complete ? frames : partial) += 1;
     if (frames + partial == 1) first_stamp = f->stamp_s;
@@ -114,6 +118,7 @@ nlohmann::json describe(const InfoOptions& opts) {
   j["rings"] = rings;
   if (partial) j["partial_frames"] = partial;
   if (const auto s = source->sensor()) j["sensor"] = s->name;
+  if (origin) j["origin_m"] = {origin->x(), origin->y(), origin->z()};
   if (organized) j["organized"] = {{"width", organized->first}, {"height", organized->second}};
   if (!bounds.empty())
     j["bounds"] = {{"min", {bounds.min.x(), bounds.min.y(), bounds.min.z()}},
@@ -151,6 +156,7 @@ nlohmann::json describe(const InfoOptions& opts) {
   const double inf = std::numeric_limits<double>::infinity();
   if (const auto imu = source->imu_until(inf).size()) j["imu_samples"] = imu;
   if (const auto odom = source->odometry_until(inf).size()) j["odometry_samples"] = odom;
+  if (const auto w = source->warnings(); !w.empty()) j["warnings"] = w;
   return j;
 }
 
@@ -184,6 +190,10 @@ void print_text(const nlohmann::json& j) {
                lo[0].get<double>(), hi[0].get<double>(), lo[1].get<double>(), hi[1].get<double>(),
                lo[2].get<double>(), hi[2].get<double>());
   }
+  if (j.contains("origin_m"))
+    fmt::print("origin:  ({:.3f}, {:.3f}, {:.3f}) m (georeference: absolute = origin + point)\n",
+               j["origin_m"][0].get<double>(), j["origin_m"][1].get<double>(),
+               j["origin_m"][2].get<double>());
   if (j.contains("las")) {
     const auto& l = j["las"];
     fmt::print(
@@ -210,6 +220,12 @@ void print_text(const nlohmann::json& j) {
   }
   if (j.contains("note")) fmt::print("note:    {}\n", j["note"].get<std::string>());
 }
+
+/// Warnings go to stderr in both output modes (the JSON holds them too, under "warnings").
+void warn_all(const nlohmann::json& j) {
+  if (j.contains("warnings"))
+    for (const auto& w : j["warnings"]) warn(w.get<std::string>());
+}
 }  // namespace
 
 void add_info_command(CLI::App& app) {
@@ -231,6 +247,7 @@ void add_info_command(CLI::App& app) {
       std::printf("%s\n", j.dump(2).c_str());
     else
       print_text(j);
+    warn_all(j);
   });
 }
 

@@ -22,6 +22,8 @@
 #include "fieldlidar/people/leg_training.hpp"
 #include "fieldlidar/people/legs_2d_pipeline.hpp"
 #include "fieldlidar/people/tracker.hpp"
+#include "support/shipped_data.hpp"
+#include "support/warnings.hpp"
 
 namespace fieldlidar::app {
 
@@ -40,15 +42,23 @@ struct LegsOptions {
   std::vector<double> truth_wedge;  ///< bearing min, max (deg), range max (m)
   bool seed_only = false;
   bool still = false;
+  bool no_classifier = false;
   bool force = false;
 };
 
-/// The shipped 2D config: installed next to the binary's prefix, else the source tree's.
-std::string default_2d_config() {
-  for (const char* dir : {FIELDLIDAR_INSTALL_CONFIG_DIR, FIELDLIDAR_SOURCE_CONFIG_DIR}) {
-    const fs::path p = fs::path(dir) / "legs_2d.yaml";
-    if (fs::exists(p)) return p.string();
-  }
+/// The shipped 2D config (with its learned classifier): legs_2d.yaml of shipped_config_dirs().
+/// Missing, it is an error naming the folders searched (leg recall drops a lot without the
+/// classifier), unless --no-classifier or --seed-only ask for the shape tests only.
+std::string default_2d_config(bool no_classifier, std::string& missing) {
+  if (const auto p = find_shipped_config("legs_2d.yaml")) return p->string();
+  if (no_classifier) return {};
+  std::string searched;
+  for (const auto& d : shipped_config_dirs())
+    searched += (searched.empty() ? "" : ", ") + d.string();
+  missing = "the shipped leg classifier config legs_2d.yaml is not in " +
+            (searched.empty() ? std::string("any known folder") : searched) +
+            " (a broken install?): give --config FILE, or --no-classifier to detect legs by "
+            "their shape only";
   return {};
 }
 
@@ -64,15 +74,21 @@ void run_legs(const LegsOptions& o) {
   const fs::path out(o.out);
   io::check_writable(out, o.force);
   people::LegDetectorConfig legs = people::default_2d_legs();
-  const std::string config_path = o.config.empty() ? default_2d_config() : o.config;
+  std::string missing_config;  // the 2D default config that was not found (an error for 2D scans)
+  const std::string config_path =
+      o.config.empty() ? default_2d_config(o.no_classifier || o.seed_only, missing_config)
+                       : o.config;
+  std::string classifier_path;
   if (!config_path.empty()) {
     legs = people::legs_config_from_yaml(read_text(config_path), config_path, legs);
+    if (o.no_classifier) legs.classifier_file.clear();
     if (!legs.classifier_file.empty()) {
       // The learned classifier lives next to the config (legs-train writes both).
       fs::path model(legs.classifier_file);
       if (model.is_relative()) model = fs::path(config_path).parent_path() / model;
       legs.classifier = std::make_shared<const people::LegClassifier>(
           people::leg_classifier_from_yaml(read_text(model), model.string()));
+      classifier_path = model.string();
     }
   }
   if (o.seed_only) legs = people::seed_only(legs);
@@ -101,6 +117,7 @@ void run_legs(const LegsOptions& o) {
 
   std::string csv = "stamp,kind,x,y,track_id\n";
   std::size_t frames = 0, legs_total = 0, persons_total = 0, scored = 0;
+  bool scans_2d = false;
   people::MatchCounts counts;
   char buf[160];
   while (auto frame = source->next()) {
@@ -109,6 +126,8 @@ void run_legs(const LegsOptions& o) {
     std::vector<long long> person_id;
     if (frame->cloud.ring_count() <= 1) {
       // A 2D scan is one ring: points in beam order. Persons are the pipeline's tracked people.
+      if (!missing_config.empty()) throw Error(missing_config);
+      scans_2d = true;
       const auto det = pipeline.process(frame->stamp_s, people::scan_points_2d(frame->cloud));
       for (const auto& l : det.legs) leg_pos.push_back(l.position_m);
       for (const auto& p : det.people) {
@@ -159,6 +178,7 @@ void run_legs(const LegsOptions& o) {
       ++scored;
     }
   }
+  warn_source_losses(*source);
   io::write_file_atomic(out, csv.data(), csv.size(), o.force);
   fmt::print("legs: {} scans, {} legs, {} tracked persons ({:.4f} per scan)\n", frames, legs_total,
              persons_total, frames ? double(persons_total) / double(frames) : 0.0);
@@ -173,6 +193,10 @@ void run_legs(const LegsOptions& o) {
             : std::string(),
         counts.recall(), counts.precision(), counts.true_positive, counts.false_positive,
         counts.false_negative);
+  if (scans_2d)
+    fmt::print("legs: 2D detector {}, classifier {}\n",
+               config_path.empty() ? "defaults" : config_path,
+               classifier_path.empty() ? "none (shape tests only)" : classifier_path);
   fmt::print("wrote {}\n", out.string());
 }
 
@@ -208,6 +232,9 @@ void add_legs_command(CLI::App& app) {
   cmd->add_flag("--seed-only", o->seed_only, "Only the seed's tests (no additions, no classifier)");
   cmd->add_flag("--still", o->still,
                 "2D: the sensor does not move (no ego-motion estimation by scan matching)");
+  cmd->add_flag("--no-classifier", o->no_classifier,
+                "2D: no learned leg classifier, shape tests only (without this flag a missing "
+                "shipped classifier is an error)");
   cmd->add_flag("--force", o->force, "Overwrite the output file");
   cmd->callback([o] { run_legs(*o); });
 }

@@ -20,6 +20,7 @@
 #include "fieldlidar/people/leg_training.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/scenes.hpp"
+#include "support/warnings.hpp"
 
 namespace fieldlidar::app {
 
@@ -102,6 +103,7 @@ void collect(const std::string& bag, const std::string& topic,
     const auto d = people::leg_pair_distances(legs);
     pairs.insert(pairs.end(), d.begin(), d.end());
   }
+  warn_source_losses(*src);
 }
 
 void run_train(const TrainOptions& o) {

@@ -283,13 +283,16 @@ void run_simulate(const SimulateOptions& o) {
       "points\n";
   std::size_t total_points = 0;
   const io::WriteOptions wo{.overwrite = o.force};
+  // One PCD schema for every frame, as documented: `time` = s from the sweep start (frame 0 starts
+  // at 0 s, the others would get absolute `timestamp`s); the sweep stamps are in times.txt.
+  const io::WriteOptions pcd_wo{.overwrite = o.force, .time_offsets = true};
   for (int i = 0; i < o.frames; ++i) {
     const double t0 = i * period;
     const auto frame = simulator.scan(t0, motion.lidar_pose_fn());
     const std::string name = fmt::format("{:06d}", i);
     io::write_kitti_bin(dir / "velodyne" / (name + ".bin"), frame.cloud, wo);
     io::write_labels(dir / "labels" / (name + ".label"), frame.cloud.labels, wo);
-    io::write_cloud(dir / "pcd" / (name + ".pcd"), frame.cloud, wo);
+    io::write_cloud(dir / "pcd" / (name + ".pcd"), frame.cloud, pcd_wo);
     poses.push_back(t0, frame.T_world_lidar_start);
     frame_times.push_back(t0);
     total_points += frame.cloud.size();

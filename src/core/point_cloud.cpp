@@ -51,6 +51,7 @@ PointCloud select(const PointCloud& cloud, std::span<const bool> keep) {
   PointCloud out;
   out.fields = cloud.fields;
   out.stamp_s = cloud.stamp_s;
+  out.origin_m = cloud.origin_m;
   const bool labelled = cloud.has_labels();
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (!keep[i]) continue;

@@ -22,6 +22,9 @@ std::vector<ImuSample> FrameSource::imu_until(double) {
 std::vector<OdometrySample> FrameSource::odometry_until(double) {
   return {};
 }
+std::vector<std::string> FrameSource::warnings() const {
+  return {};
+}
 
 namespace detail {
 namespace {

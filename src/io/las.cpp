@@ -176,6 +176,7 @@ LasCloud parse_las(std::span<const std::byte> bytes, const std::string& source) 
   const Eigen::Vector3d shift = h.offset - out.origin_m;
 
   PointCloud& cloud = out.cloud;
+  cloud.origin_m = out.origin_m;
   cloud.points.resize(n);
   cloud.labels.resize(n);
   cloud.width = static_cast<std::uint32_t>(std::min<std::size_t>(n, UINT32_MAX));

@@ -71,11 +71,22 @@ std::optional<UdpDatagram> PcapReader::next() {
   for (;;) {
     pcap_pkthdr* hdr = nullptr;
     const u_char* data = nullptr;
+    if (truncated_) return std::nullopt;
     const int rc = pcap_next_ex(s.handle, &hdr, &data);
     if (rc == PCAP_ERROR_BREAK) return std::nullopt;
-    if (rc != 1)
+    if (rc != 1) {
+      const std::string why = pcap_geterr(s.handle);
+      // libpcap: "truncated dump file; tried to read N captured bytes, only got M" (also for
+      // record headers and pcapng blocks): the end of a capture whose recorder was killed.
+      if (rc == PCAP_ERROR && why.find("truncated") != std::string::npos) {
+        truncated_ = path_.string() + ": the capture ends inside record " +
+                     std::to_string(s.record) + " (" + why +
+                     "): read up to the cut, the rest is lost (was the recorder killed?)";
+        return std::nullopt;
+      }
       throw Error(path_.string() + ": capture record " + std::to_string(s.record) +
-                  " cannot be read: " + pcap_geterr(s.handle));
+                  " cannot be read: " + why);
+    }
     const std::size_t rec = s.record++;
     const double stamp_s = double(hdr->ts.tv_sec) + 1e-6 * double(hdr->ts.tv_usec);
     const std::uint8_t* p = data;

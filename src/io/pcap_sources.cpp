@@ -26,6 +26,17 @@ std::string sizes_seen(const std::map<std::size_t, std::size_t>& sizes) {
   return s.empty() ? "no UDP datagrams" : s;
 }
 
+/// The capture reader's warning (a truncated tail), if any.
+std::vector<std::string> reader_warnings(const PcapReader& reader) {
+  if (const auto& t = reader.truncated()) return {*t};
+  return {};
+}
+
+/// "; <why the capture ended early>" for an error about what the capture lacks, else "".
+std::string truncation_note(const PcapReader& reader) {
+  return reader.truncated() ? "; " + *reader.truncated() : std::string();
+}
+
 /// A finished sweep of a capture as a Frame (stamp = the sweep's own stamp).
 Frame sweep_frame(PointCloud cloud, bool complete, std::size_t index,
                   const std::filesystem::path& capture) {
@@ -56,7 +67,8 @@ class VelodynePcapSource final : public FrameSource {
         if (data_packets_ == 0)
           throw Error(reader_.path().string() + ": no Velodyne data packets (" +
                       std::to_string(kVelodyneDataPacketBytes) +
-                      "-byte UDP payloads) in the capture; seen: " + sizes_seen(sizes_));
+                      "-byte UDP payloads) in the capture; seen: " + sizes_seen(sizes_) +
+                      truncation_note(reader_));
         assembler_.finish();
         continue;
       }
@@ -77,6 +89,7 @@ class VelodynePcapSource final : public FrameSource {
   std::string format() const override { return "velodyne-pcap"; }
   std::optional<SensorModel> sensor() const override { return sensor_; }
   double progress() const override { return reader_.progress(); }
+  std::vector<std::string> warnings() const override { return reader_warnings(reader_); }
 
  private:
   PcapReader reader_;
@@ -107,7 +120,7 @@ class OusterPcapSource final : public FrameSource {
           throw Error(reader_.path().string() + ": no Ouster lidar packet of the " +
                       std::to_string(assembler_.decoder().packet_bytes()) + " bytes that " +
                       meta_source_ + " implies; datagrams seen: " + sizes_seen(sizes_) +
-                      " (is this the metadata of this capture?)");
+                      " (is this the metadata of this capture?)" + truncation_note(reader_));
         assembler_.finish();
         continue;
       }
@@ -131,6 +144,7 @@ class OusterPcapSource final : public FrameSource {
   std::string format() const override { return "ouster-pcap"; }
   std::optional<SensorModel> sensor() const override { return sensor_; }
   double progress() const override { return reader_.progress(); }
+  std::vector<std::string> warnings() const override { return reader_warnings(reader_); }
   std::vector<ImuSample> imu_until(double until_s) override {
     std::vector<ImuSample> out;
     while (!imu_.empty() && imu_.front().stamp_s <= until_s) {
@@ -163,6 +177,7 @@ std::unique_ptr<FrameSource> open_pcap(const std::filesystem::path& capture,
   if (!options.metadata.empty()) return open_ouster(options.metadata);
   // Look at the first datagrams: Velodyne data packets are recognisable by size and block flag.
   std::map<std::size_t, std::size_t> sizes;
+  std::string cut;  // why the capture ended within the datagrams looked at, if it did
   {
     PcapReader peek(capture);
     for (int i = 0; i < 256; ++i) {
@@ -180,13 +195,14 @@ std::unique_ptr<FrameSource> open_pcap(const std::filesystem::path& capture,
       }
       ++sizes[d->payload.size()];
     }
+    cut = truncation_note(peek);
   }
   auto sidecar = capture;
   sidecar.replace_extension(".json");
   if (std::filesystem::exists(sidecar)) return open_ouster(sidecar);
   throw Error(capture.string() + ": no Velodyne data packets among the first datagrams (" +
               sizes_seen(sizes) + ") and no Ouster metadata: pass --metadata FILE.json or put " +
-              sidecar.filename().string() + " beside the capture");
+              sidecar.filename().string() + " beside the capture" + cut);
 }
 
 }  // namespace fieldlidar::io::detail

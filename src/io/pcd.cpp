@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -42,6 +43,7 @@ struct PcdHeader {
   int data_type = -1;  ///< 0 ascii, 1 binary, 2 binary_compressed
   std::size_t data_offset = 0;
   std::uint64_t point_step = 0;
+  std::array<double, 7> viewpoint{0, 0, 0, 1, 0, 0, 0};  ///< tx ty tz qw qx qy qz
 };
 
 [[noreturn]] void fail(const std::string& source, const std::string& what) {
@@ -55,6 +57,30 @@ std::uint64_t to_uint(std::string_view s, const std::string& source, std::string
     fail(source, "header: " + std::string(what) + " value '" + std::string(s) +
                      "' is not a non-negative integer");
   return v;
+}
+
+/// A whole token as a finite double.
+bool to_double(std::string_view s, double& v) {
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  return ec == std::errc() && ptr == s.data() + s.size() && std::isfinite(v);
+}
+
+/// The cloud's origin_m from the VIEWPOINT (the pose of the cloud's frame: p_outer = R p + t):
+/// its translation when the rotation is the identity (how the writer stores origin_m), else zero
+/// (a rotated frame is not an origin shift).
+Eigen::Vector3d origin_of(const PcdHeader& h) {
+  const auto& v = h.viewpoint;
+  const bool identity =
+      std::abs(std::abs(v[3]) - 1.0) < 1e-9 && v[4] == 0 && v[5] == 0 && v[6] == 0;
+  return identity ? Eigen::Vector3d(v[0], v[1], v[2]) : Eigen::Vector3d::Zero();
+}
+
+/// The VIEWPOINT line that stores `origin` (17 significant digits: doubles round-trip).
+std::string viewpoint_line(const Eigen::Vector3d& origin) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "VIEWPOINT %.17g %.17g %.17g 1 0 0 0", origin.x(), origin.y(),
+                origin.z());
+  return buf;
 }
 
 std::uint8_t pcl_type(char type, unsigned size) {
@@ -140,7 +166,11 @@ PcdHeader parse_header(std::span<const std::byte> bytes, const std::string& sour
       h.points = to_uint(tok[1], source, key);
       h.has_points = true;
     } else if (key == "VIEWPOINT") {
-      continue;
+      // Only the pose itself is used (origin_of); a malformed one is ignored, as PCL does.
+      std::array<double, 7> v{};
+      bool ok = nvals == 7;
+      for (std::size_t i = 0; ok && i < 7; ++i) ok = to_double(tok[i + 1], v[i]);
+      if (ok) h.viewpoint = v;
     } else if (key == "DATA" && nvals == 1) {
       if (tok[1] == "ascii")
         h.data_type = 0;
@@ -267,7 +297,8 @@ void parse_ascii_body(std::span<const std::byte> bytes, const PcdHeader& h,
                      std::to_string(h.points) + " points");
 }
 
-std::string header_text(const pcl::PCLPointCloud2& blob, const char* data) {
+std::string header_text(const pcl::PCLPointCloud2& blob, const char* data,
+                        const Eigen::Vector3d& origin) {
   std::string fields, sizes, types, counts;
   for (const auto& f : blob.fields) {
     fields.append(" ").append(f.name);
@@ -283,7 +314,7 @@ std::string header_text(const pcl::PCLPointCloud2& blob, const char* data) {
   h.append(fields).append("\nSIZE").append(sizes).append("\nTYPE").append(types);
   h.append("\nCOUNT").append(counts).append("\nWIDTH ").append(std::to_string(blob.width));
   h.append("\nHEIGHT ").append(std::to_string(blob.height));
-  h.append("\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS ");
+  h.append("\n").append(viewpoint_line(origin)).append("\nPOINTS ");
   h.append(std::to_string(std::size_t(blob.width) * blob.height));
   h.append("\nDATA ").append(data).append("\n");
   return h;
@@ -412,7 +443,9 @@ PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source
     blob.row_step = blob.point_step * blob.width;
     blob.data.resize(data_bytes);
     if (h.points > 0) parse_ascii_body(bytes, h, blob, source);
-    return detail::from_pcl_cloud2(blob, source);
+    PointCloud cloud = detail::from_pcl_cloud2(blob, source);
+    cloud.origin_m = origin_of(h);
+    return cloud;
   }
 
   // Binary bodies are read in place, without PCL's intermediate point-major copy: `binary` is
@@ -444,7 +477,9 @@ PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source
     offset += std::uint64_t(h.sizes[i]) * h.counts[i];
     views.push_back(std::move(v));
   }
-  return detail::from_field_views(views, width, height, source);
+  PointCloud cloud = detail::from_field_views(views, width, height, source);
+  cloud.origin_m = origin_of(h);
+  return cloud;
 }
 
 PointCloud read_pcd(const std::filesystem::path& path) {
@@ -455,12 +490,12 @@ PointCloud read_pcd(const std::filesystem::path& path) {
 void write_pcd(const std::filesystem::path& path, const PointCloud& cloud,
                const WriteOptions& options) {
   check_writable(path, options.overwrite);
-  const pcl::PCLPointCloud2 blob = detail::to_pcl_cloud2(cloud);
+  const pcl::PCLPointCloud2 blob = detail::to_pcl_cloud2(cloud, options.time_offsets);
   std::string out;
   if (!options.binary) {
-    out = header_text(blob, "ascii") + ascii_body(blob);
+    out = header_text(blob, "ascii", cloud.origin_m) + ascii_body(blob);
   } else if (!options.compressed || cloud.empty()) {
-    out = header_text(blob, "binary");
+    out = header_text(blob, "binary", cloud.origin_m);
     out.append(reinterpret_cast<const char*>(blob.data.data()), blob.data.size());
   } else {
     detail::QuietPcl quiet;
@@ -469,6 +504,11 @@ void write_pcd(const std::filesystem::path& path, const PointCloud& cloud,
     if (writer.writeBinaryCompressed(os, blob) != 0)
       throw Error(path.string() + ": PCD binary_compressed encoding failed");
     out = std::move(os).str();
+    // PCL writes the VIEWPOINT in float32 with 6 digits: ours keeps origin_m exactly.
+    const auto at = out.find("\nVIEWPOINT ");
+    const auto eol = at == std::string::npos ? at : out.find('\n', at + 1);
+    if (eol == std::string::npos) throw Error(path.string() + ": PCD header without VIEWPOINT");
+    out.replace(at + 1, eol - at - 1, viewpoint_line(cloud.origin_m));
   }
   write_file_atomic(path, out.data(), out.size(), options.overwrite);
 }

@@ -232,7 +232,7 @@ PointCloud from_field_views(const std::vector<FieldView>& blob_fields, std::uint
   return cloud;
 }
 
-pcl::PCLPointCloud2 to_pcl_cloud2(const PointCloud& cloud) {
+pcl::PCLPointCloud2 to_pcl_cloud2(const PointCloud& cloud, bool time_offsets) {
   pcl::PCLPointCloud2 blob;
   auto add = [&](const char* name, std::uint8_t type) {
     Field f;
@@ -248,7 +248,7 @@ pcl::PCLPointCloud2 to_pcl_cloud2(const PointCloud& cloud) {
   add("z", Field::FLOAT32);
   add("intensity", Field::FLOAT32);
   const bool ring = cloud.fields.ring;
-  const bool absolute = cloud.fields.time && cloud.stamp_s != 0.0;
+  const bool absolute = cloud.fields.time && cloud.stamp_s != 0.0 && !time_offsets;
   const bool offsets = cloud.fields.time && !absolute;
   const bool label = cloud.has_labels();
   std::uint32_t ring_at = 0, time_at = 0, label_at = 0;

@@ -39,8 +39,9 @@ PointCloud from_field_views(const std::vector<FieldView>& fields, std::uint32_t 
                             std::uint32_t height, const std::string& source);
 
 /// x y z intensity (float32), ring (uint16) when filled, time (float32 offset, s) or, when
-/// stamp_s != 0, timestamp (float64 absolute, s), label (uint32) when the cloud is labelled.
-pcl::PCLPointCloud2 to_pcl_cloud2(const PointCloud& cloud);
+/// stamp_s != 0 and not `time_offsets`, timestamp (float64 absolute, s), label (uint32) when the
+/// cloud is labelled.
+pcl::PCLPointCloud2 to_pcl_cloud2(const PointCloud& cloud, bool time_offsets = false);
 
 /// Silences PCL's console messages while a reader or writer runs (the library never prints).
 class QuietPcl {

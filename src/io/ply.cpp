@@ -1,7 +1,10 @@
 #include "fieldlidar/io/ply.hpp"
 
 #include <charconv>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -15,6 +18,8 @@
 namespace fieldlidar::io {
 
 namespace {
+/// Header comment holding PointCloud::origin_m: `comment fieldlidar origin_m X Y Z` (m).
+constexpr const char* kOriginComment[2] = {"fieldlidar", "origin_m"};
 
 constexpr std::size_t kMaxHeaderBytes = 1 << 16;
 
@@ -39,9 +44,25 @@ struct PlyElement {
   bool has_list = false;
 };
 
+/// The origin of a `comment fieldlidar origin_m X Y Z` line, if `tok` is one.
+std::optional<Eigen::Vector3d> origin_comment(const std::vector<std::string_view>& tok) {
+  if (tok.size() != 6 || tok[1] != kOriginComment[0] || tok[2] != kOriginComment[1])
+    return std::nullopt;
+  Eigen::Vector3d o;
+  for (int i = 0; i < 3; ++i) {
+    const auto s = tok[std::size_t(i) + 3];
+    const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), o[i]);
+    if (ec != std::errc() || p != s.data() + s.size() || !std::isfinite(o[i])) return std::nullopt;
+  }
+  return o;
+}
+
 /// Checks the header strictly and bounds every element count by the bytes that follow it, so
 /// that PCL's parser never sees a count it would allocate for but cannot read.
-void check_header(std::string_view text, std::uint64_t file_size, const std::string& source) {
+/// Returns the cloud's origin_m (from the fieldlidar origin comment; zero without one).
+Eigen::Vector3d check_header(std::string_view text, std::uint64_t file_size,
+                             const std::string& source) {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   if (file_size == 0) fail(source, "file is empty");
   if (text.substr(0, 4) != "ply\n" && text.substr(0, 5) != "ply\r\n")
     fail(source, "file does not start with 'ply' (not a PLY file)");
@@ -67,7 +88,10 @@ void check_header(std::string_view text, std::uint64_t file_size, const std::str
       fail(source, "header line '" + std::string(line.substr(0, 60)) +
                        "' is not words separated by single spaces");
     const auto key = tok[0];
-    if (key == "comment") continue;
+    if (key == "comment") {
+      if (const auto o = origin_comment(tok)) origin = *o;
+      continue;
+    }
     if (key == "obj_info") {
       // PCL takes num_cols x num_rows as the organized size of the vertex list and aborts when
       // the vertex count does not fit it, so both must be whole numbers matching that count.
@@ -142,6 +166,27 @@ void check_header(std::string_view text, std::uint64_t file_size, const std::str
     }
   }
   if (!vertex) fail(source, "has no vertex element");
+  return origin;
+}
+
+/// Adds `line` to the header of the PLY file `path` just after its format line (PCL's writer
+/// takes no comments).
+bool insert_header_line(const std::filesystem::path& path, const std::string& line) {
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return false;
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (in.bad()) return false;
+  }
+  const auto format = bytes.find("\nformat ");
+  const auto eol = format == std::string::npos ? format : bytes.find('\n', format + 1);
+  if (eol == std::string::npos) return false;
+  bytes.insert(eol + 1, line + "\n");
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  return bool(out);
 }
 
 /// The first kMaxHeaderBytes of the file (the header must lie within them) and its size.
@@ -163,7 +208,7 @@ std::string read_head(const std::filesystem::path& path, std::uint64_t& file_siz
 PointCloud read_ply(const std::filesystem::path& path) {
   std::uint64_t file_size = 0;
   const std::string head = read_head(path, file_size);
-  check_header(head, file_size, path.string());
+  const Eigen::Vector3d origin = check_header(head, file_size, path.string());
   pcl::PCLPointCloud2 blob;
   {
     detail::QuietPcl quiet;
@@ -179,13 +224,15 @@ PointCloud read_ply(const std::filesystem::path& path) {
     }
     if (rc < 0) fail(path.string(), "could not be parsed (malformed or truncated body)");
   }
-  return detail::from_pcl_cloud2(blob, path.string());
+  PointCloud cloud = detail::from_pcl_cloud2(blob, path.string());
+  cloud.origin_m = origin;
+  return cloud;
 }
 
 void write_ply(const std::filesystem::path& path, const PointCloud& cloud,
                const WriteOptions& options) {
   check_writable(path, options.overwrite);
-  pcl::PCLPointCloud2 blob = detail::to_pcl_cloud2(cloud);
+  pcl::PCLPointCloud2 blob = detail::to_pcl_cloud2(cloud, options.time_offsets);
   auto tmp = path;
   tmp += ".tmp.ply";
   int rc = -1;
@@ -196,6 +243,13 @@ void write_ply(const std::filesystem::path& path, const PointCloud& cloud,
     const Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
     rc = options.binary ? writer.writeBinary(tmp.string(), blob, origin, orientation, false)
                         : writer.writeASCII(tmp.string(), blob, origin, orientation, 9, false);
+  }
+  // A georeferenced cloud's origin_m, exactly (17 digits), in a header comment.
+  if (rc == 0 && !cloud.origin_m.isZero()) {
+    char line[160];
+    std::snprintf(line, sizeof line, "comment %s %s %.17g %.17g %.17g", kOriginComment[0],
+                  kOriginComment[1], cloud.origin_m.x(), cloud.origin_m.y(), cloud.origin_m.z());
+    if (!insert_header_line(tmp, line)) rc = -1;
   }
   std::error_code ec;
   if (rc != 0) {

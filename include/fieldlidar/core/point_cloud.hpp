@@ -50,6 +50,11 @@ struct PointCloud {
   double stamp_s = 0.0;      ///< s, sweep start time (sensor or bag clock)
   std::uint32_t width = 0;   ///< points per row when organized, else size()
   std::uint32_t height = 1;  ///< rows when organized, else 1
+  /// m: where this cloud's frame origin lies in a larger, usually georeferenced frame (a LAS
+  /// file's projected coordinates): p_absolute = origin_m + p. Zero for sensor clouds. Points are
+  /// kept relative to it so that float32 keeps millimetres where absolute UTM coordinates
+  /// (~10^6 m) would keep only ~0.5 m.
+  Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();
 
   std::size_t size() const { return points.size(); }
   bool empty() const { return points.empty(); }

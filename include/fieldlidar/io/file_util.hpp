@@ -28,6 +28,10 @@ struct WriteOptions {
   bool overwrite = false;   ///< replace an existing file
   bool binary = true;       ///< binary encoding where the format has a choice (PCD, PLY)
   bool compressed = false;  ///< PCD binary_compressed
+  /// Per-point time as `time` offsets from the sweep start (s) even when the cloud has a stamp
+  /// (by default a cloud with stamp_s != 0 gets absolute `timestamp`s, one with stamp_s == 0
+  /// offsets): one schema for every file of a sequence whose first stamp may be 0.
+  bool time_offsets = false;
 };
 
 }  // namespace fieldlidar::io

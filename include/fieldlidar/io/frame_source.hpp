@@ -76,6 +76,10 @@ class FrameSource {
   virtual std::vector<OdometrySample> odometry_until(double until_s);
   /// Fraction of the input consumed so far, in [0, 1] (for progress bars).
   virtual double progress() const { return 0.0; }
+  /// What was lost without stopping the stream, so far (e.g. a capture cut inside a record, as
+  /// when its recorder is killed: every sweep before the cut is read, the tail is not). Empty for
+  /// a clean input; the caller reports these, the library never prints.
+  virtual std::vector<std::string> warnings() const;
 };
 
 }  // namespace fieldlidar::io

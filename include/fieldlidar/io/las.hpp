@@ -61,7 +61,8 @@ LasHeader read_las_header(const std::filesystem::path& path);
 
 /// A LAS file's points, in the local frame p_cloud = p_las - origin_m.
 struct LasCloud {
-  PointCloud cloud;  ///< intensity, time (GPS time - stamp_s) and labels (raw LAS class code)
+  /// intensity, time (GPS time - stamp_s), labels (raw LAS class code); cloud.origin_m = origin_m
+  PointCloud cloud;
   LasHeader header;
   Eigen::Vector3d origin_m{0, 0, 0};  ///< las_local_origin(header)
 };

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace fieldlidar::io {
@@ -33,9 +34,12 @@ class PcapReader {
   PcapReader(const PcapReader&) = delete;
   PcapReader& operator=(const PcapReader&) = delete;
 
-  /// Next UDP datagram, nullopt at the end; throws fieldlidar::Error when the file is truncated
-  /// or a datagram was cut short by the capture's snap length.
+  /// Next UDP datagram, nullopt at the end. A capture that ends inside a record (the recorder was
+  /// killed) ends there: nullopt, and truncated() says so. Throws fieldlidar::Error for other read
+  /// errors and for a datagram cut short by the capture's snap length.
   std::optional<UdpDatagram> next();
+  /// Set once next() has met the end of the file inside a record: which record, what is missing.
+  const std::optional<std::string>& truncated() const { return truncated_; }
   /// Fraction of the file read so far, in [0, 1].
   double progress() const;
   const std::filesystem::path& path() const { return path_; }
@@ -44,6 +48,7 @@ class PcapReader {
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::filesystem::path path_;
+  std::optional<std::string> truncated_;
 };
 
 }  // namespace fieldlidar::io

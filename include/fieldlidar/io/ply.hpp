@@ -12,9 +12,12 @@ namespace fieldlidar::io {
 /// ring, label, time offsets or an absolute timestamp, mapped as for PCD. The header is checked
 /// against the file size before PCL's PLYReader decodes it. Throws fieldlidar::Error naming the
 /// file for a missing file, a wrong magic, a malformed or truncated file, or NaN coordinates.
+/// A header line `comment fieldlidar origin_m X Y Z` gives the cloud's origin_m (m).
 PointCloud read_ply(const std::filesystem::path& path);
 
-/// Writes the cloud as PLY vertices (binary little-endian unless options.binary is false).
+/// Writes the cloud as PLY vertices (binary little-endian unless options.binary is false); a
+/// non-zero cloud.origin_m goes into the header as `comment fieldlidar origin_m X Y Z` (17
+/// digits: exact), so that a georeferenced cloud keeps its absolute position (origin_m + p).
 void write_ply(const std::filesystem::path& path, const PointCloud& cloud,
                const WriteOptions& options = {});
 
