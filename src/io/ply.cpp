@@ -182,32 +182,66 @@ PointCloud read_ply(const std::filesystem::path& path) {
   return detail::from_pcl_cloud2(blob, path.string());
 }
 
+namespace {
+
+const char* ply_type(std::uint8_t datatype) {
+  using Field = pcl::PCLPointField;
+  switch (datatype) {
+    case Field::INT8:
+      return "char";
+    case Field::UINT8:
+      return "uchar";
+    case Field::INT16:
+      return "short";
+    case Field::UINT16:
+      return "ushort";
+    case Field::INT32:
+      return "int";
+    case Field::UINT32:
+      return "uint";
+    case Field::FLOAT32:
+      return "float";
+    case Field::FLOAT64:
+      return "double";
+    default:
+      return nullptr;
+  }
+}
+
+}  // namespace
+
+std::string encode_ply(const PointCloud& cloud, bool binary) {
+  const pcl::PCLPointCloud2 blob = detail::to_pcl_cloud2(cloud);
+  const std::size_t n = std::size_t(blob.width) * blob.height;
+  std::string out = "ply\nformat ";
+  out += binary ? "binary_little_endian 1.0\n" : "ascii 1.0\n";
+  out += "comment fieldlidar\n";
+  if (blob.height > 1)  // organized: rows x columns, as PCL writes it
+    out += "obj_info num_cols " + std::to_string(blob.width) + "\nobj_info num_rows " +
+           std::to_string(blob.height) + "\n";
+  out += "element vertex " + std::to_string(n) + "\n";
+  std::size_t item = 0;
+  for (const auto& f : blob.fields) {
+    const char* type = ply_type(f.datatype);
+    if (!type) throw Error("PLY: field '" + f.name + "' has no PLY type");
+    out += std::string("property ") + type + " " + f.name + "\n";
+    item += pcl::getFieldSize(f.datatype);
+  }
+  out += "end_header\n";
+  if (!binary) return out + detail::ascii_values(blob);
+  out.reserve(out.size() + n * item);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto* p = reinterpret_cast<const char*>(blob.data.data() + i * blob.point_step);
+    for (const auto& f : blob.fields) out.append(p + f.offset, pcl::getFieldSize(f.datatype));
+  }
+  return out;
+}
+
 void write_ply(const std::filesystem::path& path, const PointCloud& cloud,
                const WriteOptions& options) {
   check_writable(path, options.overwrite);
-  pcl::PCLPointCloud2 blob = detail::to_pcl_cloud2(cloud);
-  auto tmp = path;
-  tmp += ".tmp.ply";
-  int rc = -1;
-  {
-    detail::QuietPcl quiet;
-    pcl::PLYWriter writer;
-    const Eigen::Vector4f origin = Eigen::Vector4f::Zero();
-    const Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
-    rc = options.binary ? writer.writeBinary(tmp.string(), blob, origin, orientation, false)
-                        : writer.writeASCII(tmp.string(), blob, origin, orientation, 9, false);
-  }
-  std::error_code ec;
-  if (rc != 0) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(path.string() + ": PLY write failed");
-  }
-  check_writable(path, options.overwrite);
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(path.string() + ": cannot move the written file into place");
-  }
+  const std::string bytes = encode_ply(cloud, options.binary);
+  write_file_atomic(path, bytes, options.overwrite);
 }
 
 }  // namespace fieldlidar::io

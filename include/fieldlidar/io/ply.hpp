@@ -2,6 +2,7 @@
 /// \file PLY point clouds (vertex element only): ascii and binary, read and write, via PCL.
 
 #include <filesystem>
+#include <string>
 
 #include "fieldlidar/core/point_cloud.hpp"
 #include "fieldlidar/io/file_util.hpp"
@@ -14,7 +15,12 @@ namespace fieldlidar::io {
 /// file for a missing file, a wrong magic, a malformed or truncated file, or NaN coordinates.
 PointCloud read_ply(const std::filesystem::path& path);
 
-/// Writes the cloud as PLY vertices (binary little-endian unless options.binary is false).
+/// The cloud as the bytes of a PLY file: x y z intensity ... as for PCD (io/pcl_fields), binary
+/// little-endian or ascii (float32 with 9 significant digits, float64 with 17: both round-trip).
+std::string encode_ply(const PointCloud& cloud, bool binary);
+
+/// Writes the cloud as PLY vertices (binary little-endian unless options.binary is false) through
+/// write_file_atomic: a failed write throws and leaves no file.
 void write_ply(const std::filesystem::path& path, const PointCloud& cloud,
                const WriteOptions& options = {});
 
