@@ -240,9 +240,7 @@ void add_simulate_command(CLI::App& app) {
   auto o = std::make_shared<SimulateOptions>();
   auto* cmd = app.add_subcommand(
       "simulate", "Simulate LiDAR frames with exact ground truth in a procedural scene");
-  cmd->add_option("--scene", o->scene, "lawn, greenhouse, forest or terrain")
-      ->required()
-      ->check(CLI::IsMember({"lawn", "greenhouse", "forest", "terrain"}));
+  cmd->add_option("--scene", o->scene, "lawn, greenhouse, forest or terrain")->required();
   cmd->add_option(
          "--sensor", o->sensor,
          "Sensor preset (vlp16, vlp32c, hdl32e, hdl64e, os1-64, os1-128, os2-128, tilting2d)")

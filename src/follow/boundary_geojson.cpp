@@ -72,8 +72,16 @@ std::string boundary_geojson(const BoundaryPolygon& poly, const std::string& fra
   }
   s +=
       "\"shape\":\"" + to_string(shape) + "\",\"closed\":" + (poly.closed ? "true" : "false") + ",";
-  std::snprintf(buf, sizeof buf, "\"area_m2\":%.4f,\"perimeter_m\":%.4f,\"vertices\":%zu,",
-                poly.area_m2, poly.perimeter_m, poly.vertices.size());
+  if (poly.closed) {
+    std::snprintf(buf, sizeof buf, "\"area_m2\":%.4f,\"perimeter_m\":%.4f,\"vertices\":%zu,",
+                  poly.area_m2, poly.perimeter_m, poly.vertices.size());
+  } else {  // an open path has a length, no area
+    double length_m = 0;
+    for (std::size_t i = 1; i < poly.vertices.size(); ++i)
+      length_m += (poly.vertices[i] - poly.vertices[i - 1]).norm();
+    std::snprintf(buf, sizeof buf, "\"length_m\":%.4f,\"vertices\":%zu,", length_m,
+                  poly.vertices.size());
+  }
   s += buf;
   s += "\"self_intersections\":[";
   for (std::size_t i = 0; i < poly.self_intersections.size(); ++i) {
