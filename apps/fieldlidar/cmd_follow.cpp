@@ -206,7 +206,8 @@ void add_follow_command(CLI::App& app) {
   cmd->add_option("--origin", o->origin,
                   "LAT,LON[,HEADING_DEG]: WGS84 position of the lawn frame's origin (and compass "
                   "bearing of its +x axis, default 90 = x east): boundary.geojson in longitude/"
-                  "latitude as RFC 7946 asks (tangent plane: < 0.1 m error within 1 km)");
+                  "latitude as RFC 7946 asks (tangent plane: 1 mm error at 100 m, 0.1 m at 1 km, "
+                  "at 48 deg latitude)");
   cmd->add_option("--out", o->out, "Output folder")->required();
   cmd->add_flag("--force", o->force, "Overwrite existing output files");
   cmd->callback([o] { run_follow(*o); });

@@ -170,7 +170,8 @@ void run_legs(const LegsOptions& o) {
       ++scored;
     }
   }
-  io::write_file_atomic(out, csv.data(), csv.size(), o.force);
+  if (frames == 0) fmt::print(stderr, "warning: {} holds no scans\n", o.input);
+  io::write_file_atomic(out, csv, o.force);
   fmt::print(
       "legs: {} scans, {} legs, {} tracked persons ({} person detections, {:.4f} per scan)\n",
       frames, legs_total, person_ids.size(), persons_total,

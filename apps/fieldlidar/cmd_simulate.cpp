@@ -144,6 +144,11 @@ void run_simulate(const SimulateOptions& o) {
   if (fs::exists(dir / "poses.txt") && !o.force)
     throw Error((dir / "poses.txt").string() +
                 ": exists (a previous simulation); pass --force to replace it");
+  if (fs::is_directory(dir))  // before any frame: outputs that may not be replaced
+    for (const char* name :
+         {"poses.txt", "times.txt", "poses_tum.txt", "imu.csv", "odom.csv", "scene.json",
+          "velodyne/000000.bin", "labels/000000.label", "pcd/000000.pcd"})
+      if (fs::is_directory((dir / name).parent_path())) io::check_writable(dir / name, o.force);
   for (const char* sub : {"velodyne", "labels", "pcd"}) fs::create_directories(dir / sub);
 
   const auto t_start = std::chrono::steady_clock::now();
