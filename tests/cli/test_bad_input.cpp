@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -72,6 +73,43 @@ TEST(CliBadInput, FullDiskFailsEveryWriterAndLeavesNoFile) {
     EXPECT_NE(r.output.find("write failed"), std::string::npos) << what << ": " << r.output;
     EXPECT_TRUE(files_in(dir).empty()) << what << " left: " << joined(files_in(dir));
   }
+}
+
+/// Runs `script` (bash) in a private mount namespace with a 200 kB tmpfs mounted on `dir`, so
+/// the test sees a real full file system (ENOSPC) without touching the machine's mounts; returns
+/// its output, or nullopt when the test has no right to do that.
+std::optional<std::string> on_small_tmpfs(const fs::path& dir, const std::string& script) {
+  const std::string cmd = "unshare -m bash -c \"mount -t tmpfs -o size=200k tmpfs " +
+                          test::quoted(dir) + " 2>/dev/null || exit 77; " + script + "\" 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return std::nullopt;
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+  const int status = ::pclose(pipe);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) == 77 || out.find("unshare:") == 0)
+    return std::nullopt;
+  return out;
+}
+
+TEST(CliBadInput, FullFileSystemFailsAndLeavesNoFile) {
+  FIELDLIDAR_REQUIRE_DATA("kitti00/000000.bin");
+  const auto dir = test::temp_dir("cli_tmpfs");
+  const std::string in = test::quoted(test::data_file("kitti00/000000.bin"));
+  const std::string cli = FIELDLIDAR_CLI, d = test::quoted(dir);
+  // Each command in turn on the full file system, its exit status, then what is left there.
+  const auto out = on_small_tmpfs(
+      dir, cli + " convert " + in + " " + d + "/x.ply; echo exit=\\$?; " + cli + " convert " + in +
+               " " + d + "/x.ply --ascii; echo exit=\\$?; " + cli + " segment " + in + " --png " +
+               d + "/x.png; echo exit=\\$?; ls -A " + d + "; echo end");
+  if (!out) GTEST_SKIP() << "no right to mount a tmpfs in a private mount namespace (unshare -m)";
+  EXPECT_EQ(out->find("exit=0"), std::string::npos) << *out;
+  std::size_t errors = 0;
+  for (auto at = out->find("No space left on device"); at != std::string::npos;
+       at = out->find("No space left on device", at + 1))
+    ++errors;
+  EXPECT_EQ(errors, 3u) << *out;
+  EXPECT_NE(out->find("exit=1\nend"), std::string::npos) << "files left: " << *out;
 }
 
 TEST(CliBadInput, ForceNeverReplacesSpecialFilesOrTheInput) {
