@@ -70,8 +70,15 @@ void convert_stream(const ConvertOptions& o) {
   if (fs::exists(dir) && !fs::is_directory(dir))
     throw Error(o.output + ": exists and is not a folder (frames are written as " + dir.string() +
                 "/000000." + o.format + ", ...)");
+  // A folder or glob of frame files read into that same folder would be replaced as it is read.
   std::error_code ec;
-  if (fs::is_directory(o.input, ec) && fs::equivalent(o.input, dir, ec))
+  const bool glob = o.input.find_first_of("*?[") != std::string::npos;
+  fs::path input_folder;
+  if (fs::is_directory(o.input, ec))
+    input_folder = o.input;
+  else if (glob)
+    input_folder = fs::path(o.input).has_parent_path() ? fs::path(o.input).parent_path() : ".";
+  if (!input_folder.empty() && fs::equivalent(input_folder, dir, ec))
     throw Error(o.output + ": is the input folder; write the frames to another folder");
   fs::create_directories(dir);
   const fs::path times_path = dir / "times.txt";

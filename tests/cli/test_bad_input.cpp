@@ -244,6 +244,11 @@ TEST(CliBadInput, TimesOfAFolderWithoutStampsAreFlagged) {
   const auto same =
       test::run_cli("convert " + test::quoted(dir / "in") + " " + test::quoted(dir / "in") + " -f");
   EXPECT_EQ(same.exit_code, 1) << same.output;
+  const auto glob = test::run_cli("convert " + test::quoted(dir / "in" / "*.bin") + " " +
+                                  test::quoted(dir / "in") + " --format bin -f");
+  EXPECT_EQ(glob.exit_code, 1) << glob.output;
+  EXPECT_NE(glob.output.find("is the input folder"), std::string::npos) << glob.output;
+  EXPECT_EQ(fs::file_size(dir / "in" / "000000.bin"), 16u);
 }
 
 }  // namespace
