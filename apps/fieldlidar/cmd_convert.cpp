@@ -5,7 +5,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 
@@ -14,6 +13,7 @@
 #include "commands.hpp"
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
+#include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
 #include "support/warnings.hpp"
 
@@ -86,8 +86,6 @@ bool single_file_conversion(const ConvertOptions& o) {
 
 void convert_stream(const ConvertOptions& o) {
   namespace fs = std::filesystem;
-  if (o.format != "pcd" && o.format != "bin")
-    throw Error("--format '" + o.format + "': expected pcd or bin");
   io::SourceOptions so;
   so.topic = o.topic;
   so.metadata = o.metadata;
@@ -96,14 +94,25 @@ void convert_stream(const ConvertOptions& o) {
   if (fs::exists(dir) && !fs::is_directory(dir))
     throw Error(o.output + ": exists and is not a folder (frames are written as " + dir.string() +
                 "/000000." + o.format + ", ...)");
+  // A folder or glob of frame files read into that same folder would be replaced as it is read.
+  std::error_code ec;
+  const bool glob = o.input.find_first_of("*?[") != std::string::npos;
+  fs::path input_folder;
+  if (fs::is_directory(o.input, ec))
+    input_folder = o.input;
+  else if (glob)
+    input_folder = fs::path(o.input).has_parent_path() ? fs::path(o.input).parent_path() : ".";
+  if (!input_folder.empty() && fs::equivalent(input_folder, dir, ec))
+    throw Error(o.output + ": is the input folder; write the frames to another folder");
   fs::create_directories(dir);
   const fs::path times_path = dir / "times.txt";
-  io::check_writable(times_path, o.force);
+  io::check_writable(times_path, o.force, {o.input});
   io::WriteOptions w;
   w.overwrite = o.force;
   w.binary = !o.ascii;
   w.compressed = o.compressed;
-  std::ofstream times;
+  std::string times;
+  std::size_t unstamped = 0;
   ProgressBar bar(!o.quiet);
   std::size_t written = 0, skipped = 0, points = 0;
   while (auto f = source->next()) {
@@ -112,21 +121,26 @@ void convert_stream(const ConvertOptions& o) {
       continue;
     }
     const fs::path out = dir / fmt::format("{:06d}.{}", written, o.format);
+    io::check_writable(out, o.force, {o.input});
     io::write_cloud(out, f->cloud, w);
     if (written == 0) report_origin(f->cloud, out.string());
-    if (!times.is_open()) {
-      times.open(times_path);
-      if (!times) throw Error(times_path.string() + ": cannot write");
-    }
-    times << fmt::format("{:.9f}\n", f->stamp_s);
+    times += fmt::format("{:.9f}\n", f->stamp_s);
+    if (f->stamp_s == 0) ++unstamped;
     ++written;
     points += f->cloud.size();
     bar.update(source->progress(), written);
   }
   bar.done();
   warn_source_losses(*source);
+  if (written) io::write_file_atomic(times_path, times, o.force);
   fmt::print("wrote {} frames ({} points) as {} to {}/ with their stamps in times.txt\n", written,
              points, o.format, o.output);
+  if (unstamped)
+    fmt::print(stderr,
+               "warning: {} of {} frames carry no time stamp (the input has none): their lines in "
+               "times.txt are 0\n",
+               unstamped, written);
+  if (written && points == 0) fmt::print(stderr, "warning: every frame of {} is empty\n", o.input);
   if (skipped)
     fmt::print("skipped {} partial sweeps at the capture's ends (--partial keeps them)\n", skipped);
   if (o.format == "bin")
@@ -148,7 +162,8 @@ void add_convert_command(CLI::App& app) {
                   "Output file (.bin, .pcd, .ply) for a single file, else an output folder")
       ->required();
   cmd->add_option("--format", opts->format, "Frame file format in the output folder: pcd or bin")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::IsMember({"pcd", "bin"}));
   cmd->add_option("--topic", opts->topic, "Bag topic of the scans (default: the only one)");
   cmd->add_option("--metadata", opts->metadata,
                   "Ouster metadata JSON (default: <capture>.json beside the capture)");
@@ -160,7 +175,9 @@ void add_convert_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress bar");
   cmd->callback([opts] {
     if (!single_file_conversion(*opts)) return convert_stream(*opts);
+    io::check_writable(opts->output, opts->force, {opts->input});
     const PointCloud cloud = io::read_cloud(opts->input);
+    if (cloud.empty()) fmt::print(stderr, "warning: {} has no points\n", opts->input);
     io::WriteOptions w;
     w.overwrite = opts->force;
     w.binary = !opts->ascii;

@@ -26,6 +26,9 @@ struct EvalOptions {
 
 void run(const EvalOptions& o) {
   const PointCloud cloud = io::read_cloud(o.input);
+  if (cloud.valid_count() == 0)
+    throw Error(o.input + ": the scan has no valid point (" + std::to_string(cloud.size()) +
+                " points): nothing to score");
   const std::vector<std::uint32_t> truth = io::read_labels(o.truth, cloud.size());
   std::vector<std::uint16_t> ground_classes, ignored;
   if (o.classes == "semantickitti") {

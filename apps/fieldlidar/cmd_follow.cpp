@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <fmt/core.h>
@@ -11,10 +12,12 @@
 
 #include "commands.hpp"
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/core/geo_origin.hpp"
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/loops/closed_loop.hpp"
 #include "follow_job.hpp"
 #include "support/canvas.hpp"
+#include "support/option_checks.hpp"
 
 namespace fieldlidar::app {
 
@@ -23,7 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 
 void write_text(const fs::path& path, const std::string& text, bool force) {
-  io::write_file_atomic(path, text.data(), text.size(), force);
+  io::write_file_atomic(path, text, force);
 }
 
 nlohmann::json config_json(const follow::FollowConfig& c) {
@@ -71,7 +74,7 @@ void write_picture(const fs::path& path, const sim::Scene& scene, const loops::C
   canvas.polyline(r.operator_loop, {0.1, 0.55, 0.1}, 1.5, true);
   for (const auto& p : r.trail) canvas.dot(p, {0.2, 0.4, 0.95}, 1.5);
   canvas.polyline(r.mower_path, {0.1, 0.1, 0.1}, 1.0);
-  canvas.polyline(r.boundary.vertices, {0.85, 0.15, 0.1}, 2.5, true);
+  canvas.polyline(r.boundary.vertices, {0.85, 0.15, 0.1}, 2.5, r.boundary.closed);
   for (const auto& x : r.boundary.self_intersections)
     canvas.circle(x.point_m, 0.4, {0.9, 0.0, 0.6}, 2.0);
   if (!r.rows.empty()) {
@@ -96,27 +99,42 @@ void run_follow(const FollowOptions& o) {
                 "': expected default, crossing, stop, fast or occluded");
   const auto sensor = SensorModel::preset(o.sensor);
   if (!sensor) throw Error("--sensor '" + o.sensor + "': unknown sensor preset");
-  const fs::path dir(o.out);
-  if (fs::exists(dir) && !fs::is_directory(dir))
-    throw Error("--out " + o.out + ": exists and is not a folder");
-  fs::create_directories(dir);
-  const fs::path geojson = dir / "boundary.geojson", csv = dir / "boundary.csv",
-                 log = dir / "follow_log.csv", summary = dir / "summary.json",
-                 png = dir / "follow.png";
-  for (const auto& p : {geojson, csv, log, summary, png}) io::check_writable(p, o.force);
-
+  std::optional<GeoOrigin> origin;
+  if (!o.origin.empty()) origin = parse_geo_origin(o.origin, "--origin");
   loops::ClosedLoopConfig cfg;
   if (o.target_id >= 0) cfg.follow.target_id = std::uint32_t(o.target_id);
   if (o.max_time_s > 0) cfg.max_time_s = o.max_time_s;
   if (o.safe_distance_m > 0) cfg.follow.safety.safe_distance_m = o.safe_distance_m;
   if (o.max_distance_m > 0) cfg.follow.safety.max_distance_m = o.max_distance_m;
-  if (cfg.follow.safety.safe_distance_m >= cfg.follow.safety.max_distance_m)
-    throw Error(fmt::format("--safe-distance {} m must be below --max-distance {} m",
-                            cfg.follow.safety.safe_distance_m, cfg.follow.safety.max_distance_m));
+  require(cfg.follow.safety.safe_distance_m < cfg.follow.safety.max_distance_m, "--safe-distance",
+          fmt::format("{} m must be below --max-distance {} m", cfg.follow.safety.safe_distance_m,
+                      cfg.follow.safety.max_distance_m));
+  const fs::path dir(o.out);
+  if (fs::exists(dir) && !fs::is_directory(dir))
+    throw Error("--out " + o.out + ": exists and is not a folder");
+  const fs::path geojson = dir / "boundary.geojson", csv = dir / "boundary.csv",
+                 log = dir / "follow_log.csv", summary = dir / "summary.json",
+                 png = dir / "follow.png";
+  if (fs::is_directory(dir))
+    for (const auto& p : {geojson, csv, log, summary, png}) io::check_writable(p, o.force);
+
   const auto scene = sim::make_lawn_scene(loops::lawn_config(*scenario), o.seed);
   const auto r = loops::run_closed_loop(scene, *sensor, cfg);
+  if (o.target_id >= 0 && !r.first_target_id)
+    throw Error(
+        fmt::format("--target-id {}: no person track of that id appeared in {} frames "
+                    "({:.1f} s); nothing written (leave it out to follow the person ahead)",
+                    o.target_id, r.rows.size(), r.duration_s));
+  const auto shape = follow::boundary_shape(r.boundary);
+  if (shape != follow::BoundaryShape::kPolygon)
+    fmt::print(stderr,
+               "warning: the boundary is not a closed polygon ({}); {} holds it as a "
+               "LineString\n",
+               follow::to_string(shape), geojson.string());
+  fs::create_directories(dir);
+  for (const auto& p : {geojson, csv, log, summary, png}) io::check_writable(p, o.force);
 
-  write_text(geojson, follow::boundary_geojson(r.boundary, "world"), o.force);
+  write_text(geojson, follow::boundary_geojson(r.boundary, "world", origin), o.force);
   write_text(csv, follow::boundary_csv(r.boundary), o.force);
   write_text(log, loops::log_csv(r.rows), o.force);
   nlohmann::json s;
@@ -128,6 +146,7 @@ void run_follow(const FollowOptions& o) {
   s["duration_s"] = r.duration_s;
   s["stopped_by_command"] = r.stopped_by_command;
   s["frame"] = "world (simulated lawn), x-y in metres";
+  s["boundary_shape"] = follow::to_string(shape);
   s["metrics"] = {{"boundary_mean_distance_m", r.boundary_error.mean_m},
                   {"boundary_hausdorff_m", r.boundary_error.hausdorff_m},
                   {"boundary_vertices", r.boundary.vertices.size()},
@@ -169,12 +188,26 @@ void add_follow_command(CLI::App& app) {
   cmd->add_option("--sensor", o->sensor, "Sensor preset")->capture_default_str();
   cmd->add_option("--scenario", o->scenario, "default, crossing, stop, fast or occluded")
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "Scene seed")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Scene seed")
+      ->capture_default_str()
+      ->check(whole_in(0, 9223372036854775807LL));
   cmd->add_option("--target-id", o->target_id,
-                  "Track id of the person to follow (default: the person ahead at the start)");
-  cmd->add_option("--max-time", o->max_time_s, "Time limit in s (default: from the lap length)");
-  cmd->add_option("--safe-distance", o->safe_distance_m, "L_s in m (default 1.2)");
-  cmd->add_option("--max-distance", o->max_distance_m, "L_m in m (default 7.0)");
+                  "Track id of the person to follow (default: the person ahead at the start); an "
+                  "id that never appears is an error")
+      ->check(whole_in(0, 4294967295LL));
+  cmd->add_option("--max-time", o->max_time_s,
+                  "Time limit in s (default: from the lap length); a lap cut short is written as "
+                  "an open LineString")
+      ->check(real_above(0, 86400));
+  cmd->add_option("--safe-distance", o->safe_distance_m, "L_s in m (default 1.2)")
+      ->check(real_above(0, 100));
+  cmd->add_option("--max-distance", o->max_distance_m, "L_m in m (default 7.0)")
+      ->check(real_above(0, 100));
+  cmd->add_option("--origin", o->origin,
+                  "LAT,LON[,HEADING_DEG]: WGS84 position of the lawn frame's origin (and compass "
+                  "bearing of its +x axis, default 90 = x east): boundary.geojson in longitude/"
+                  "latitude as RFC 7946 asks (tangent plane: 1 mm error at 100 m, 0.1 m at 1 km, "
+                  "at 48 deg latitude)");
   cmd->add_option("--out", o->out, "Output folder")->required();
   cmd->add_flag("--force", o->force, "Overwrite existing output files");
   cmd->callback([o] { run_follow(*o); });

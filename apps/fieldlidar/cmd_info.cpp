@@ -65,7 +65,7 @@ nlohmann::json describe(const InfoOptions& opts) {
       j["points"] = 0;
       j["valid_points"] = 0;
       j["fields"] = nlohmann::json::array();
-      j["rings"] = 0;
+      j["rings"] = nullptr;
       j["note"] = "several scan topics; pass --topic to read one";
       return j;
     }
@@ -115,7 +115,8 @@ nlohmann::json describe(const InfoOptions& opts) {
   j["points"] = points;
   j["valid_points"] = valid;
   j["fields"] = field_names;
-  j["rings"] = rings;
+  // No ring field (or no point): the number of rings is unknown, not 0.
+  j["rings"] = rings > 0 ? nlohmann::json(rings) : nlohmann::json(nullptr);
   if (partial) j["partial_frames"] = partial;
   if (const auto s = source->sensor()) j["sensor"] = s->name;
   if (origin) j["origin_m"] = {origin->x(), origin->y(), origin->z()};
@@ -182,7 +183,8 @@ void print_text(const nlohmann::json& j) {
   std::string fields;
   for (const auto& f : j["fields"]) fields += (fields.empty() ? "" : " ") + f.get<std::string>();
   fmt::print("fields:  {}\n", fields);
-  fmt::print("rings:   {}\n", j["rings"].get<long>());
+  fmt::print("rings:   {}\n", j["rings"].is_null() ? std::string("unknown (no ring field)")
+                                                   : std::to_string(j["rings"].get<long>()));
   if (j.contains("bounds")) {
     const auto& lo = j["bounds"]["min"];
     const auto& hi = j["bounds"]["max"];
@@ -243,6 +245,8 @@ void add_info_command(CLI::App& app) {
                 "Print machine-readable JSON (keys: format, frames, points, ...)");
   cmd->callback([opts] {
     const auto j = describe(*opts);
+    if (j.value("points", 0L) == 0 && !j.contains("note"))
+      fmt::print(stderr, "warning: {} holds no points\n", opts->input);
     if (opts->json)
       std::printf("%s\n", j.dump(2).c_str());
     else

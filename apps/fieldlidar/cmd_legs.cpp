@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -24,6 +25,7 @@
 #include "fieldlidar/people/tracker.hpp"
 #include "support/shipped_data.hpp"
 #include "support/warnings.hpp"
+#include "support/option_checks.hpp"
 
 namespace fieldlidar::app {
 
@@ -71,8 +73,15 @@ std::string read_text(const fs::path& p) {
 }
 
 void run_legs(const LegsOptions& o) {
+  if (o.truth_wedge.size() == 3) {
+    require(o.truth_wedge[0] < o.truth_wedge[1], "--truth-wedge",
+            fmt::format("BEARING_MIN {} must be below BEARING_MAX {}", o.truth_wedge[0],
+                        o.truth_wedge[1]));
+    require(o.truth_wedge[2] > 0, "--truth-wedge",
+            fmt::format("RANGE_MAX {} must be > 0", o.truth_wedge[2]));
+  }
   const fs::path out(o.out);
-  io::check_writable(out, o.force);
+  io::check_writable(out, o.force, {o.input});
   people::LegDetectorConfig legs = people::default_2d_legs();
   std::string missing_config;  // the 2D default config that was not found (an error for 2D scans)
   const std::string config_path =
@@ -118,6 +127,7 @@ void run_legs(const LegsOptions& o) {
   std::string csv = "stamp,kind,x,y,track_id\n";
   std::size_t frames = 0, legs_total = 0, persons_total = 0, scored = 0;
   bool scans_2d = false;
+  std::set<long long> person_ids;  // distinct tracked persons
   people::MatchCounts counts;
   char buf[160];
   while (auto frame = source->next()) {
@@ -165,6 +175,7 @@ void run_legs(const LegsOptions& o) {
     }
     legs_total += leg_pos.size();
     persons_total += person_pos.size();
+    person_ids.insert(person_id.begin(), person_id.end());
     if (frame->index < truth.size()) {
       std::vector<char> matched;
       auto m = people::match_points(leg_pos, truth[frame->index], o.match_radius_m, &matched);
@@ -179,9 +190,12 @@ void run_legs(const LegsOptions& o) {
     }
   }
   warn_source_losses(*source);
-  io::write_file_atomic(out, csv.data(), csv.size(), o.force);
-  fmt::print("legs: {} scans, {} legs, {} tracked persons ({:.4f} per scan)\n", frames, legs_total,
-             persons_total, frames ? double(persons_total) / double(frames) : 0.0);
+  if (frames == 0) fmt::print(stderr, "warning: {} holds no scans\n", o.input);
+  io::write_file_atomic(out, csv, o.force);
+  fmt::print(
+      "legs: {} scans, {} legs, {} tracked persons ({} person detections, {:.4f} per scan)\n",
+      frames, legs_total, person_ids.size(), persons_total,
+      frames ? double(persons_total) / double(frames) : 0.0);
   if (!o.truth_topic.empty())
     fmt::print(
         "legs vs {} ({} annotated scans, match {:.2f} m{}): recall {:.4f}, precision {:.4f} "
@@ -215,19 +229,14 @@ void add_legs_command(CLI::App& app) {
   cmd->add_option("--truth", o->truth_topic,
                   "PoseArray topic of annotated legs: print recall and precision");
   cmd->add_option("--match-radius", o->match_radius_m, "Match distance for --truth (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(real_above(0, 5));
   cmd->add_option(
          "--truth-wedge", o->truth_wedge,
          "The region where --truth annotates every leg: BEARING_MIN BEARING_MAX (deg) "
          "RANGE_MAX (m); unmatched legs outside it are not scored (legs_2d bags: -15 15 5)")
       ->expected(3)
-      ->check([](const std::string& v) {
-        try {
-          return std::isfinite(std::stod(v)) ? std::string() : "must be finite";
-        } catch (...) {
-          return std::string("must be a number");
-        }
-      });
+      ->check(real_in(-180, 180));
   cmd->add_option("--sensor", o->sensor, "Sensor preset for 3D input without sensor metadata");
   cmd->add_flag("--seed-only", o->seed_only, "Only the seed's tests (no additions, no classifier)");
   cmd->add_flag("--still", o->still,

@@ -21,6 +21,7 @@
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/scenes.hpp"
 #include "support/warnings.hpp"
+#include "support/option_checks.hpp"
 
 namespace fieldlidar::app {
 
@@ -108,8 +109,12 @@ void collect(const std::string& bag, const std::string& topic,
 
 void run_train(const TrainOptions& o) {
   namespace fs = std::filesystem;
+  require(o.low_quantile < o.high_quantile, "--low-quantile",
+          fmt::format("{} must be below --high-quantile {}", o.low_quantile, o.high_quantile));
   const fs::path out(o.out);
-  io::check_writable(out, o.force);
+  std::vector<fs::path> inputs(o.positive.begin(), o.positive.end());
+  inputs.insert(inputs.end(), o.negative.begin(), o.negative.end());
+  io::check_writable(out, o.force, inputs);
   if (o.positive.empty() && o.sim_frames <= 0)
     throw Error("legs-train: give --positive bags (2D) or --sim-frames N (3D)");
   if (!o.positive.empty() && o.sim_frames > 0)
@@ -207,7 +212,8 @@ void add_legs_train_command(CLI::App& app) {
       "legs-train", "Estimate the leg detector's bounds from annotated scans, write its YAML");
   cmd->add_option("--positive", o->positive, "Bags with scans and annotated legs (2D)");
   cmd->add_option("--sim-frames", o->sim_frames,
-                  "Train a 3D config from this many simulated sweeps of walking people instead");
+                  "Train a 3D config from this many simulated sweeps of walking people instead")
+      ->check(whole_in(1, 100000));
   cmd->add_option("--sensor", o->sensor, "Sensor preset for --sim-frames")->capture_default_str();
   cmd->add_option("--negative", o->negative, "Bags of scans without people");
   cmd->add_option("--scan-topic", o->scan_topic, "Scan topic of the positive bags")
@@ -217,9 +223,17 @@ void add_legs_train_command(CLI::App& app) {
   cmd->add_option("--negative-topic", o->negative_topics,
                   "Scan topics of the negative bags (default: every LaserScan topic)");
   cmd->add_option("--match-radius", o->match_radius_m, "Arc-to-annotation match distance (m)")
-      ->capture_default_str();
-  cmd->add_option("--low-quantile", o->low_quantile)->capture_default_str();
-  cmd->add_option("--high-quantile", o->high_quantile)->capture_default_str();
+      ->capture_default_str()
+      ->check(real_above(0, 5));
+  cmd->add_option("--low-quantile", o->low_quantile,
+                  "Quantile of the leg features taken as each test's lower bound (below "
+                  "--high-quantile)")
+      ->capture_default_str()
+      ->check(real_in(0, 1));
+  cmd->add_option("--high-quantile", o->high_quantile,
+                  "Quantile of the leg features taken as each test's upper bound")
+      ->capture_default_str()
+      ->check(real_in(0, 1));
   cmd->add_option("--out", o->out, "YAML config to write")->required();
   cmd->add_flag("--force", o->force, "Overwrite the output file");
   cmd->add_flag("--classifier,!--no-classifier", o->classifier,
@@ -227,7 +241,7 @@ void add_legs_train_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--rounds", o->rounds, "Boosting rounds of the leg classifier")
       ->capture_default_str()
-      ->check(CLI::Range(1, 5000));
+      ->check(whole_in(1, 5000));
   cmd->callback([o] { run_train(*o); });
 }
 

@@ -5,8 +5,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -18,6 +20,7 @@
 #include "fieldlidar/io/label_file.hpp"
 #include "fieldlidar/segmentation/segment.hpp"
 #include "support/canvas.hpp"
+#include "support/option_checks.hpp"
 #include "support/sensor_choice.hpp"
 
 namespace fieldlidar::app {
@@ -75,12 +78,18 @@ void draw_pictures(const std::string& path, const PointCloud& cloud, const Senso
 }
 
 void run(const SegmentOptions& o) {
+  // Refuse early, before the work: an output that exists without --force, that is not a regular
+  // file, or that is the input itself.
+  const std::vector<std::filesystem::path> inputs{o.input};
+  std::filesystem::path range_png(o.png_out);
+  range_png.replace_extension(".range.png");
+  for (const auto& out : {o.labels_out, o.cloud_out, o.png_out, range_png.string()})
+    if (!out.empty() && out != ".range.png") io::check_writable(out, o.force, inputs);
   const PointCloud cloud = io::read_cloud(o.input);
+  if (cloud.valid_count() == 0)
+    throw Error(o.input + ": the scan has no valid point (" + std::to_string(cloud.size()) +
+                " points): nothing to segment");
   const SensorModel sensor = sensor_for(cloud, o.input, o.sensor);
-  // Refuse early, before the work, when an output exists and --force is absent.
-  if (!o.labels_out.empty()) io::check_writable(o.labels_out, o.force);
-  if (!o.cloud_out.empty()) io::check_writable(o.cloud_out, o.force);
-  if (!o.png_out.empty()) io::check_writable(o.png_out, o.force);
 
   segmentation::SegmentConfig cfg;
   cfg.ground.method = ground_method(o.method);
@@ -142,16 +151,20 @@ void add_segment_command(CLI::App& app) {
       "segment", "Split one scan into ground and object clusters (label file, cloud, PNG)");
   cmd->add_option("INPUT", opts->input, "Input scan (.bin KITTI, .pcd, .ply, .las)")->required();
   cmd->add_option("--method", opts->method, "Ground method: robust, seed000, seed002")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::IsMember({"robust", "seed000", "seed002"}));
   cmd->add_option("--sensor", opts->sensor,
                   "Sensor preset (vlp16, hdl32e, hdl64e, os1-64, ...); default from the rings");
   cmd->add_option("--clusters", opts->clusters, "Clustering: euclidean or range-image")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::IsMember({"euclidean", "range-image"}));
   cmd->add_option("--tolerance", opts->tolerance_m, "Euclidean cluster distance (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(real_above(0, 100));
   cmd->add_option("--min-points", opts->min_points,
                   "Smallest cluster kept (seed 002 drops clusters of <= 20 points)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_in(1, 100000000));
   cmd->add_option("--labels", opts->labels_out,
                   "Write a uint32 per point: 0 invalid, 1 ground, 2 other, 100+k cluster k");
   cmd->add_option("--out", opts->cloud_out, "Write the cloud with those labels (.pcd, .ply, ...)");

@@ -8,6 +8,14 @@
 
 #include "commands.hpp"
 
+namespace {
+/// " segment" when a subcommand was named on the command line, "" otherwise.
+std::string help_command(const CLI::App& app) {
+  for (const auto* sub : app.get_subcommands()) return " " + sub->get_name();
+  return "";
+}
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{
       "fieldlidar: 3D-LiDAR perception, mapping and navigation for field robots.\n"
@@ -30,8 +38,18 @@ int main(int argc, char** argv) {
       app.parse(std::string("demo"), false);  // the built-in default job
     else
       app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // Every option error as every other error: one line naming the option, exit status 1.
+    std::fprintf(stderr, "fieldlidar: error: %s\n", e.what());
+    std::fprintf(stderr, "run 'fieldlidar%s --help' for the options and their valid ranges\n",
+                 help_command(app).c_str());
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fieldlidar: error: %s\n", e.what());
     return 1;

@@ -132,42 +132,6 @@ double signed_area(const std::vector<Eigen::Vector2d>& ring) {
   return a / 2;
 }
 
-std::string boundary_geojson(const BoundaryPolygon& poly, const std::string& frame_id) {
-  std::string s = "{\"type\":\"FeatureCollection\",\"features\":[{\"type\":\"Feature\",";
-  char buf[128];
-  s += "\"properties\":{\"name\":\"lawn boundary\",\"frame\":\"" + frame_id +
-       "\",\"units\":\"m\",\"coordinates\":\"local metric x-y, not WGS84\",";
-  std::snprintf(buf, sizeof buf, "\"area_m2\":%.4f,\"perimeter_m\":%.4f,\"vertices\":%zu,",
-                poly.area_m2, poly.perimeter_m, poly.vertices.size());
-  s += buf;
-  s += "\"self_intersections\":[";
-  for (std::size_t i = 0; i < poly.self_intersections.size(); ++i) {
-    const auto& x = poly.self_intersections[i];
-    std::snprintf(buf, sizeof buf, "%s{\"edges\":[%zu,%zu],\"point\":[%.4f,%.4f]}", i ? "," : "",
-                  x.edge_a, x.edge_b, x.point_m.x(), x.point_m.y());
-    s += buf;
-  }
-  s += "]},\"geometry\":{\"type\":\"Polygon\",\"coordinates\":[[";
-  for (std::size_t i = 0; i <= poly.vertices.size() && !poly.vertices.empty(); ++i) {
-    const auto& v = poly.vertices[i % poly.vertices.size()];
-    std::snprintf(buf, sizeof buf, "%s[%.4f,%.4f]", i ? "," : "", v.x(), v.y());
-    s += buf;
-  }
-  s += "]]}}]}\n";
-  return s;
-}
-
-std::string boundary_csv(const BoundaryPolygon& poly) {
-  std::string s = "index,x,y\n";
-  char buf[96];
-  for (std::size_t i = 0; i < poly.vertices.size(); ++i) {
-    std::snprintf(buf, sizeof buf, "%zu,%.4f,%.4f\n", i, poly.vertices[i].x(),
-                  poly.vertices[i].y());
-    s += buf;
-  }
-  return s;
-}
-
 double distance_to_closed(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& ring) {
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < ring.size(); ++i)

@@ -75,14 +75,6 @@ Eigen::Vector3d origin_of(const PcdHeader& h) {
   return identity ? Eigen::Vector3d(v[0], v[1], v[2]) : Eigen::Vector3d::Zero();
 }
 
-/// The VIEWPOINT line that stores `origin` (17 significant digits: doubles round-trip).
-std::string viewpoint_line(const Eigen::Vector3d& origin) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, "VIEWPOINT %.17g %.17g %.17g 1 0 0 0", origin.x(), origin.y(),
-                origin.z());
-  return buf;
-}
-
 std::uint8_t pcl_type(char type, unsigned size) {
   switch (type) {
     case 'F':
@@ -297,63 +289,6 @@ void parse_ascii_body(std::span<const std::byte> bytes, const PcdHeader& h,
                      std::to_string(h.points) + " points");
 }
 
-std::string header_text(const pcl::PCLPointCloud2& blob, const char* data,
-                        const Eigen::Vector3d& origin) {
-  std::string fields, sizes, types, counts;
-  for (const auto& f : blob.fields) {
-    fields.append(" ").append(f.name);
-    const bool fp = f.datatype == Field::FLOAT32 || f.datatype == Field::FLOAT64;
-    const bool sgn = f.datatype == Field::INT8 || f.datatype == Field::INT16 ||
-                     f.datatype == Field::INT32 || f.datatype == Field::INT64;
-    const int size = pcl::getFieldSize(f.datatype);
-    sizes.append(" ").append(std::to_string(size));
-    types += fp ? " F" : sgn ? " I" : " U";
-    counts += " 1";
-  }
-  std::string h = "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS";
-  h.append(fields).append("\nSIZE").append(sizes).append("\nTYPE").append(types);
-  h.append("\nCOUNT").append(counts).append("\nWIDTH ").append(std::to_string(blob.width));
-  h.append("\nHEIGHT ").append(std::to_string(blob.height));
-  h.append("\n").append(viewpoint_line(origin)).append("\nPOINTS ");
-  h.append(std::to_string(std::size_t(blob.width) * blob.height));
-  h.append("\nDATA ").append(data).append("\n");
-  return h;
-}
-
-std::string ascii_body(const pcl::PCLPointCloud2& blob) {
-  std::string body;
-  const std::size_t n = std::size_t(blob.width) * blob.height;
-  body.reserve(n * blob.fields.size() * 12);
-  char buf[40];
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint8_t* p = blob.data.data() + i * blob.point_step;
-    for (std::size_t k = 0; k < blob.fields.size(); ++k) {
-      const auto& f = blob.fields[k];
-      int len = 0;
-      if (f.datatype == Field::FLOAT32) {
-        float v;
-        std::memcpy(&v, p + f.offset, 4);
-        len = std::snprintf(buf, sizeof(buf), "%.9g", v);  // 9 digits: float32 round-trips
-      } else if (f.datatype == Field::FLOAT64) {
-        double v;
-        std::memcpy(&v, p + f.offset, 8);
-        len = std::snprintf(buf, sizeof(buf), "%.17g", v);
-      } else if (f.datatype == Field::UINT16) {
-        std::uint16_t v;
-        std::memcpy(&v, p + f.offset, 2);
-        len = std::snprintf(buf, sizeof(buf), "%u", unsigned(v));
-      } else {
-        std::uint32_t v;
-        std::memcpy(&v, p + f.offset, 4);
-        len = std::snprintf(buf, sizeof(buf), "%u", v);
-      }
-      body.append(buf, static_cast<std::size_t>(len));
-      body += k + 1 == blob.fields.size() ? '\n' : ' ';
-    }
-  }
-  return body;
-}
-
 /// A read-only memory map of a whole file: the body is decoded straight from the page cache
 /// instead of being copied into a buffer first (as PCL's own reader does).
 class MappedFile {
@@ -485,32 +420,6 @@ PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source
 PointCloud read_pcd(const std::filesystem::path& path) {
   const MappedFile file(path);
   return parse_pcd(file.bytes(), path.string());
-}
-
-void write_pcd(const std::filesystem::path& path, const PointCloud& cloud,
-               const WriteOptions& options) {
-  check_writable(path, options.overwrite);
-  const pcl::PCLPointCloud2 blob = detail::to_pcl_cloud2(cloud, options.time_offsets);
-  std::string out;
-  if (!options.binary) {
-    out = header_text(blob, "ascii", cloud.origin_m) + ascii_body(blob);
-  } else if (!options.compressed || cloud.empty()) {
-    out = header_text(blob, "binary", cloud.origin_m);
-    out.append(reinterpret_cast<const char*>(blob.data.data()), blob.data.size());
-  } else {
-    detail::QuietPcl quiet;
-    std::ostringstream os;
-    pcl::PCDWriter writer;
-    if (writer.writeBinaryCompressed(os, blob) != 0)
-      throw Error(path.string() + ": PCD binary_compressed encoding failed");
-    out = std::move(os).str();
-    // PCL writes the VIEWPOINT in float32 with 6 digits: ours keeps origin_m exactly.
-    const auto at = out.find("\nVIEWPOINT ");
-    const auto eol = at == std::string::npos ? at : out.find('\n', at + 1);
-    if (eol == std::string::npos) throw Error(path.string() + ": PCD header without VIEWPOINT");
-    out.replace(at + 1, eol - at - 1, viewpoint_line(cloud.origin_m));
-  }
-  write_file_atomic(path, out.data(), out.size(), options.overwrite);
 }
 
 }  // namespace fieldlidar::io

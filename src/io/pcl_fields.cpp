@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <optional>
@@ -289,6 +290,40 @@ pcl::PCLPointCloud2 to_pcl_cloud2(const PointCloud& cloud, bool time_offsets) {
     if (label) std::memcpy(out + label_at, &cloud.labels[i], sizeof(std::uint32_t));
   }
   return blob;
+}
+
+std::string ascii_values(const pcl::PCLPointCloud2& blob) {
+  std::string body;
+  const std::size_t n = std::size_t(blob.width) * blob.height;
+  body.reserve(n * blob.fields.size() * 12);
+  char buf[40];
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t* p = blob.data.data() + i * blob.point_step;
+    for (std::size_t k = 0; k < blob.fields.size(); ++k) {
+      const auto& f = blob.fields[k];
+      int len = 0;
+      if (f.datatype == Field::FLOAT32) {
+        float v;
+        std::memcpy(&v, p + f.offset, 4);
+        len = std::snprintf(buf, sizeof(buf), "%.9g", v);  // 9 digits: float32 round-trips
+      } else if (f.datatype == Field::FLOAT64) {
+        double v;
+        std::memcpy(&v, p + f.offset, 8);
+        len = std::snprintf(buf, sizeof(buf), "%.17g", v);
+      } else if (f.datatype == Field::UINT16) {
+        std::uint16_t v;
+        std::memcpy(&v, p + f.offset, 2);
+        len = std::snprintf(buf, sizeof(buf), "%u", unsigned(v));
+      } else {
+        std::uint32_t v;
+        std::memcpy(&v, p + f.offset, 4);
+        len = std::snprintf(buf, sizeof(buf), "%u", v);
+      }
+      body.append(buf, static_cast<std::size_t>(len));
+      body += k + 1 == blob.fields.size() ? '\n' : ' ';
+    }
+  }
+  return body;
 }
 
 }  // namespace fieldlidar::io::detail

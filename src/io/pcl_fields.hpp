@@ -43,6 +43,10 @@ PointCloud from_field_views(const std::vector<FieldView>& fields, std::uint32_t 
 /// cloud is labelled.
 pcl::PCLPointCloud2 to_pcl_cloud2(const PointCloud& cloud, bool time_offsets = false);
 
+/// The points as text, one line per point, values separated by spaces in field order: float32
+/// with 9 significant digits and float64 with 17 (both round-trip exactly), integers in full.
+std::string ascii_values(const pcl::PCLPointCloud2& blob);
+
 /// Silences PCL's console messages while a reader or writer runs (the library never prints).
 class QuietPcl {
  public:

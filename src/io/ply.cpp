@@ -169,26 +169,6 @@ Eigen::Vector3d check_header(std::string_view text, std::uint64_t file_size,
   return origin;
 }
 
-/// Adds `line` to the header of the PLY file `path` just after its format line (PCL's writer
-/// takes no comments).
-bool insert_header_line(const std::filesystem::path& path, const std::string& line) {
-  std::string bytes;
-  {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return false;
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (in.bad()) return false;
-  }
-  const auto format = bytes.find("\nformat ");
-  const auto eol = format == std::string::npos ? format : bytes.find('\n', format + 1);
-  if (eol == std::string::npos) return false;
-  bytes.insert(eol + 1, line + "\n");
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  return bool(out);
-}
-
 /// The first kMaxHeaderBytes of the file (the header must lie within them) and its size.
 std::string read_head(const std::filesystem::path& path, std::uint64_t& file_size) {
   std::error_code ec;
@@ -229,39 +209,73 @@ PointCloud read_ply(const std::filesystem::path& path) {
   return cloud;
 }
 
+namespace {
+
+const char* ply_type(std::uint8_t datatype) {
+  using Field = pcl::PCLPointField;
+  switch (datatype) {
+    case Field::INT8:
+      return "char";
+    case Field::UINT8:
+      return "uchar";
+    case Field::INT16:
+      return "short";
+    case Field::UINT16:
+      return "ushort";
+    case Field::INT32:
+      return "int";
+    case Field::UINT32:
+      return "uint";
+    case Field::FLOAT32:
+      return "float";
+    case Field::FLOAT64:
+      return "double";
+    default:
+      return nullptr;
+  }
+}
+
+}  // namespace
+
+std::string encode_ply(const PointCloud& cloud, bool binary, bool time_offsets) {
+  const pcl::PCLPointCloud2 blob = detail::to_pcl_cloud2(cloud, time_offsets);
+  const std::size_t n = std::size_t(blob.width) * blob.height;
+  std::string out = "ply\nformat ";
+  out += binary ? "binary_little_endian 1.0\n" : "ascii 1.0\n";
+  out += "comment fieldlidar\n";
+  // A georeferenced cloud's origin_m, exactly (17 digits), in a header comment.
+  if (!cloud.origin_m.isZero()) {
+    char line[160];
+    std::snprintf(line, sizeof line, "comment %s %s %.17g %.17g %.17g\n", kOriginComment[0],
+                  kOriginComment[1], cloud.origin_m.x(), cloud.origin_m.y(), cloud.origin_m.z());
+    out += line;
+  }
+  if (blob.height > 1)  // organized: rows x columns, as PCL writes it
+    out += "obj_info num_cols " + std::to_string(blob.width) + "\nobj_info num_rows " +
+           std::to_string(blob.height) + "\n";
+  out += "element vertex " + std::to_string(n) + "\n";
+  std::size_t item = 0;
+  for (const auto& f : blob.fields) {
+    const char* type = ply_type(f.datatype);
+    if (!type) throw Error("PLY: field '" + f.name + "' has no PLY type");
+    out += std::string("property ") + type + " " + f.name + "\n";
+    item += pcl::getFieldSize(f.datatype);
+  }
+  out += "end_header\n";
+  if (!binary) return out + detail::ascii_values(blob);
+  out.reserve(out.size() + n * item);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto* p = reinterpret_cast<const char*>(blob.data.data() + i * blob.point_step);
+    for (const auto& f : blob.fields) out.append(p + f.offset, pcl::getFieldSize(f.datatype));
+  }
+  return out;
+}
+
 void write_ply(const std::filesystem::path& path, const PointCloud& cloud,
                const WriteOptions& options) {
   check_writable(path, options.overwrite);
-  pcl::PCLPointCloud2 blob = detail::to_pcl_cloud2(cloud, options.time_offsets);
-  auto tmp = path;
-  tmp += ".tmp.ply";
-  int rc = -1;
-  {
-    detail::QuietPcl quiet;
-    pcl::PLYWriter writer;
-    const Eigen::Vector4f origin = Eigen::Vector4f::Zero();
-    const Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
-    rc = options.binary ? writer.writeBinary(tmp.string(), blob, origin, orientation, false)
-                        : writer.writeASCII(tmp.string(), blob, origin, orientation, 9, false);
-  }
-  // A georeferenced cloud's origin_m, exactly (17 digits), in a header comment.
-  if (rc == 0 && !cloud.origin_m.isZero()) {
-    char line[160];
-    std::snprintf(line, sizeof line, "comment %s %s %.17g %.17g %.17g", kOriginComment[0],
-                  kOriginComment[1], cloud.origin_m.x(), cloud.origin_m.y(), cloud.origin_m.z());
-    if (!insert_header_line(tmp, line)) rc = -1;
-  }
-  std::error_code ec;
-  if (rc != 0) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(path.string() + ": PLY write failed");
-  }
-  check_writable(path, options.overwrite);
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(path.string() + ": cannot move the written file into place");
-  }
+  const std::string bytes = encode_ply(cloud, options.binary, options.time_offsets);
+  write_file_atomic(path, bytes, options.overwrite);
 }
 
 }  // namespace fieldlidar::io

@@ -210,6 +210,7 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
   if (resume_wait_from >= 0) res.resumed_after_every_occlusion = false;
   if (in_occlusion) res.resumed_after_every_occlusion = false;
   res.boundary = pipeline.stop();
+  res.boundary.closed = res.stopped_by_command;  // a time limit leaves the path open
   res.trail = pipeline.trail().points();
   res.boundary_error = compare_closed(res.boundary.vertices, res.operator_loop);
   res.mean_perception_ms = res.rows.empty() ? 0 : perception_total_ms / double(res.rows.size());

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -26,13 +27,29 @@ std::string slurp(const std::filesystem::path& p) {
 TEST(CliFollow, ShortRunWritesAllOutputsAndRefusesToOverwrite) {
   const auto dir = test::temp_dir("cli_follow");
   // 4 s of simulated following: enough for the formats, the full lap is in tests/follow.
-  const auto r = test::run_cli("follow --max-time 4 --out " + dir.string());
+  const auto r = test::run_cli("follow --max-time 4 --origin 48.1,11.5 --out " + dir.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: the boundary is not a closed polygon"), std::string::npos)
+      << r.output;
   for (const char* f :
        {"boundary.geojson", "boundary.csv", "follow_log.csv", "summary.json", "follow.png"})
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   const auto gj = nlohmann::json::parse(slurp(dir / "boundary.geojson"));
-  EXPECT_EQ(gj["features"][0]["geometry"]["type"], "Polygon");
+  // 4 s of a lap: the path is open, so a LineString, never a self-closing Polygon; with --origin
+  // in WGS84 longitude, latitude, the metres kept in the properties.
+  const auto& feature = gj["features"][0];
+  EXPECT_EQ(feature["geometry"]["type"], "LineString");
+  EXPECT_FALSE(feature["properties"]["closed"].get<bool>());
+  const auto& coords = feature["geometry"]["coordinates"];
+  const auto& local = feature["properties"]["local_coordinates_m"];
+  ASSERT_GE(coords.size(), 2u);
+  ASSERT_EQ(local.size(), coords.size());
+  EXPECT_NE(coords.front(), coords.back());
+  for (std::size_t i = 0; i < coords.size(); ++i) {
+    // At 48.1 deg (WGS84): 1 deg of latitude is 111,192.27 m, of longitude 74,481.02 m.
+    EXPECT_NEAR(coords[i][0].get<double>(), 11.5 + local[i][0].get<double>() / 74481.02, 1e-8);
+    EXPECT_NEAR(coords[i][1].get<double>(), 48.1 + local[i][1].get<double>() / 111192.27, 1e-8);
+  }
   const auto s = nlohmann::json::parse(slurp(dir / "summary.json"));
   EXPECT_DOUBLE_EQ(s["config"]["L_s_m"].get<double>(), 1.2);
   EXPECT_DOUBLE_EQ(s["config"]["L_m_m"].get<double>(), 7.0);
@@ -53,6 +70,14 @@ TEST(CliFollow, ShortRunWritesAllOutputsAndRefusesToOverwrite) {
   const auto again = test::run_cli("follow --max-time 1 --out " + dir.string());
   EXPECT_EQ(again.exit_code, 1);
   EXPECT_NE(again.output.find("fieldlidar: error:"), std::string::npos);
+}
+
+TEST(CliFollow, UnknownTargetIdIsAnErrorAndWritesNothing) {
+  const auto dir = test::temp_dir("cli_follow_target") / "out";
+  const auto r = test::run_cli("follow --target-id 99 --max-time 3 --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("fieldlidar: error: --target-id 99"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "boundary.geojson"));
 }
 
 TEST(CliFollow, RejectsUnknownScenarioAndBadDistances) {
@@ -103,6 +128,7 @@ TEST(CliLegs, DetectionsCsvAndTrainedConfigRoundTrip) {
   std::getline(in, line);
   EXPECT_EQ(line, "stamp,kind,x,y,track_id");
   std::size_t legs = 0, persons = 0;
+  std::set<std::string> person_ids;
   while (std::getline(in, line)) {
     const auto c1 = line.find(',');
     const auto stamp = line.substr(0, c1);
@@ -111,9 +137,18 @@ TEST(CliLegs, DetectionsCsvAndTrainedConfigRoundTrip) {
     const auto kind = line.substr(c1 + 1, line.find(',', c1 + 1) - c1 - 1);
     legs += kind == "leg";
     persons += kind == "person";
+    if (kind == "person") person_ids.insert(line.substr(line.rfind(',') + 1));
     ASSERT_TRUE(kind == "leg" || kind == "person") << line;
   }
   EXPECT_GT(legs, 197u);  // 197 scans, about 1.6 annotated legs each
+  // The summary counts distinct tracked persons, not person rows.
+  std::size_t printed = 0;
+  const auto tp = r.output.find(" tracked persons");
+  ASSERT_NE(tp, std::string::npos) << r.output;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + r.output.find("legs: "),
+                        "legs: %*u scans, %*u legs, %zu", &printed),
+            1);
+  EXPECT_EQ(printed, person_ids.size()) << r.output;
   EXPECT_GT(persons, 10u);
   r = test::run_cli("legs " + test::data_file(bag).string() + " --topic /training_scan --out " +
                     csv);
@@ -121,7 +156,8 @@ TEST(CliLegs, DetectionsCsvAndTrainedConfigRoundTrip) {
 }
 
 // The shipped 2D config (config/legs_2d.yaml + classifier, trained on these bags) on the
-// people-free bag: measured 0 + 10 + 9 tracked persons in 1304 scans (0.0146 per scan).
+// people-free bag: measured 0 + 3 + 1 distinct tracked persons (0 + 10 + 9 person rows) in 1304
+// scans.
 TEST(CliLegs, ShippedConfigOnPeopleFreeScans) {
   const std::string negative = "legs_2d/negative_2.bag";
   FIELDLIDAR_REQUIRE_DATA(negative);

@@ -94,3 +94,58 @@ TEST(Boundary, GeoJsonIsOneClosedPolygonInMetres) {
 
 }  // namespace
 }  // namespace fieldlidar::follow
+
+namespace fieldlidar::follow {
+namespace {
+
+TEST(Boundary, OpenOrSelfCrossingBoundaryIsALineStringNeverAPolygon) {
+  BoundaryPolygon open;
+  open.vertices = {{0, 0}, {4, 0}, {4, 3}};
+  open.closed = false;  // a time limit, no stop command
+  EXPECT_EQ(boundary_shape(open), BoundaryShape::kOpenPath);
+  auto j = nlohmann::json::parse(boundary_geojson(open, "world"));
+  auto g = j["features"][0]["geometry"];
+  EXPECT_EQ(g["type"], "LineString");
+  ASSERT_EQ(g["coordinates"].size(), 3u);  // not joined back to the start
+  EXPECT_FALSE(j["features"][0]["properties"]["closed"].get<bool>());
+  EXPECT_DOUBLE_EQ(j["features"][0]["properties"]["length_m"].get<double>(), 7.0);
+
+  BoundaryPolygon bowtie;
+  bowtie.vertices = {{0, 0}, {4, 3}, {4, 0}, {0, 3}};
+  bowtie.self_intersections = find_self_intersections(bowtie.vertices);
+  ASSERT_FALSE(bowtie.self_intersections.empty());
+  EXPECT_EQ(boundary_shape(bowtie), BoundaryShape::kSelfIntersecting);
+  j = nlohmann::json::parse(boundary_geojson(bowtie, "world"));
+  g = j["features"][0]["geometry"];
+  EXPECT_EQ(g["type"], "LineString");
+  ASSERT_EQ(g["coordinates"].size(), 5u);
+  EXPECT_EQ(g["coordinates"][0], g["coordinates"][4]);
+}
+
+TEST(Boundary, GeoJsonWithAnOriginIsWgs84LonLat) {
+  BoundaryPolygon p;
+  p.vertices = {{0, 0}, {100, 0}, {100, 50}, {0, 50}};
+  p.area_m2 = 5000;
+  p.perimeter_m = 300;
+  const GeoOrigin origin{.lat_deg = 48.0, .lon_deg = 11.0, .heading_deg = 90};
+  const auto j = nlohmann::json::parse(boundary_geojson(p, "world", origin));
+  const auto& ring = j["features"][0]["geometry"]["coordinates"][0];
+  ASSERT_EQ(ring.size(), 5u);
+  EXPECT_DOUBLE_EQ(ring[0][0].get<double>(), 11.0);
+  EXPECT_DOUBLE_EQ(ring[0][1].get<double>(), 48.0);
+  // WGS84 at 48 deg: 1 deg of longitude 74,625.35 m, of latitude 111,190.32 m (radii of curvature).
+  EXPECT_NEAR(ring[1][0].get<double>() - 11.0, 100.0 / 74625.35, 1e-8);
+  EXPECT_NEAR(ring[1][1].get<double>(), 48.0, 1e-12);
+  EXPECT_NEAR(ring[2][1].get<double>() - 48.0, 50.0 / 111190.32, 1e-8);
+  EXPECT_EQ(j["features"][0]["properties"]["local_coordinates_m"][1][0].get<double>(), 100.0);
+  // Heading 0: the local +x axis points north.
+  const auto n = local_to_lon_lat({100, 0}, {.lat_deg = 48.0, .lon_deg = 11.0, .heading_deg = 0});
+  EXPECT_NEAR(n.x(), 11.0, 1e-12);
+  EXPECT_NEAR(n.y() - 48.0, 100.0 / 111190.32, 1e-8);
+  EXPECT_THROW(parse_geo_origin("48.0", "--origin"), std::exception);
+  EXPECT_THROW(parse_geo_origin("95,11", "--origin"), std::exception);
+  EXPECT_EQ(parse_geo_origin("48.5,-3.25,30", "--origin").heading_deg, 30.0);
+}
+
+}  // namespace
+}  // namespace fieldlidar::follow

@@ -3,23 +3,28 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include <cairo.h>
 
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/io/file_util.hpp"
 
 namespace fieldlidar::app {
 
 namespace {
-void check_target(const std::filesystem::path& path, bool overwrite) {
-  std::error_code ec;
-  if (!overwrite && std::filesystem::exists(path, ec))
-    throw Error(path.string() + ": already exists (pass --force to replace it)");
+cairo_status_t append_bytes(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
 }
+/// Encodes the PNG in memory, then writes it as every other output is written (io/file_util):
+/// checked, complete or not at all.
 void write_surface(cairo_surface_t* surface, const std::filesystem::path& path, bool overwrite) {
-  check_target(path, overwrite);
-  if (cairo_surface_write_to_png(surface, path.c_str()) != CAIRO_STATUS_SUCCESS)
-    throw Error(path.string() + ": cannot write PNG");
+  io::check_writable(path, overwrite);
+  std::string png;
+  if (cairo_surface_write_to_png_stream(surface, append_bytes, &png) != CAIRO_STATUS_SUCCESS)
+    throw Error(path.string() + ": cannot encode the PNG");
+  io::write_file_atomic(path, png, overwrite);
 }
 }  // namespace
 

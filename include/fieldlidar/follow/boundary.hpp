@@ -4,14 +4,18 @@
 /// start, simplify, check for self-intersections, and format as GeoJSON / CSV.
 ///
 /// Frame: a local metric frame, x east-like and y north-like as the robot's world/odometry frame
-/// (m); GeoJSON coordinates are [x, y] in metres in that frame, not longitude/latitude (the file
-/// says so in its "crs"-free "properties.frame" member).
+/// (m). GeoJSON coordinates are WGS84 [longitude, latitude] when the frame's GeoOrigin is given
+/// (RFC 7946; the local metres stay in "properties.local_coordinates_m"), else [x, y] in metres
+/// in that frame (the file says so in "properties.coordinates").
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "fieldlidar/core/geo_origin.hpp"
 
 namespace fieldlidar::follow {
 
@@ -33,7 +37,15 @@ struct BoundaryPolygon {
   double area_m2 = 0;  ///< |shoelace area|
   double perimeter_m = 0;
   std::size_t raw_points = 0;  ///< recorded points before simplification
+  /// False when the recording ended without the stop command (a time limit): the vertices are
+  /// an open path, not a ring.
+  bool closed = true;
 };
+
+/// What a recorded boundary is, for writing it as a valid geometry.
+enum class BoundaryShape { kPolygon, kOpenPath, kTooFewVertices, kSelfIntersecting };
+BoundaryShape boundary_shape(const BoundaryPolygon& polygon);
+std::string to_string(BoundaryShape shape);
 
 class BoundaryRecorder {
  public:
@@ -60,9 +72,13 @@ std::vector<SelfIntersection> find_self_intersections(const std::vector<Eigen::V
 /// Signed shoelace area (CCW positive).
 double signed_area(const std::vector<Eigen::Vector2d>& ring);
 
-/// GeoJSON FeatureCollection with one Polygon feature (the ring repeated at its end, CCW), the
-/// frame, area, perimeter and self-intersections in the properties.
-std::string boundary_geojson(const BoundaryPolygon& polygon, const std::string& frame_id);
+/// GeoJSON FeatureCollection with one feature: a Polygon (the ring repeated at its end, CCW) when
+/// boundary_shape() is kPolygon, else a LineString (an open path as recorded; a ring that crosses
+/// itself closed by repeating its first vertex), never an invalid Polygon. The frame, shape, area,
+/// perimeter and self-intersections are in the properties. With `origin`, coordinates are WGS84
+/// longitude/latitude (9 decimals) and the metres are kept in the properties.
+std::string boundary_geojson(const BoundaryPolygon& polygon, const std::string& frame_id,
+                             const std::optional<GeoOrigin>& origin = std::nullopt);
 /// CSV: `index,x,y` per vertex (m).
 std::string boundary_csv(const BoundaryPolygon& polygon);
 
