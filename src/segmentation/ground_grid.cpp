@@ -113,16 +113,26 @@ void drop_low_outliers(Grid& grid, double low_outlier_m) {
 
 }  // namespace
 
-GroundResult ground_grid(const PointCloud& cloud, const GridGroundConfig& config) {
-  if (!(config.cell_m > 0) || !std::isfinite(config.cell_m))
-    throw Error("grid ground: GridGroundConfig.cell_m must be > 0 (got " +
-                std::to_string(config.cell_m) + ")");
+GroundResult ground_grid(const PointCloud& cloud, const GridGroundConfig& config_in) {
+  if (!(config_in.cell_m >= 0) || !std::isfinite(config_in.cell_m))
+    throw Error("grid ground: GridGroundConfig.cell_m must be >= 0 (got " +
+                std::to_string(config_in.cell_m) + ")");
   GroundResult result;
   result.is_ground.assign(cloud.size(), 0);
   Bounds3 b;
+  std::size_t valid = 0;
   for (const Point& p : cloud.points)
-    if (valid_point(p)) b.extend(p.xyz().cast<double>());
+    if (valid_point(p)) {
+      b.extend(p.xyz().cast<double>());
+      ++valid;
+    }
   if (b.empty()) return result;
+  GridGroundConfig config = config_in;
+  if (config.cell_m == 0) {
+    const double area = std::max(1.0, (b.max.x() - b.min.x()) * (b.max.y() - b.min.y()));
+    config.cell_m =
+        std::clamp(3.0 / std::sqrt(double(valid) / area), config.min_cell_m, config.max_cell_m);
+  }
 
   Grid lowest;
   lowest.cell = config.cell_m;

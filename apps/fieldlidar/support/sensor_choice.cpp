@@ -1,5 +1,9 @@
 #include "support/sensor_choice.hpp"
 
+#include <cstdio>
+
+#include <fmt/core.h>
+
 #include "fieldlidar/core/error.hpp"
 
 namespace fieldlidar::app {
@@ -27,6 +31,10 @@ SensorModel sensor_for(const PointCloud& cloud, const std::string& input,
     throw Error(input + ": " + std::to_string(cloud.ring_count()) +
                 " rings match no preset; pass --sensor");
   }
+  // A guess, said aloud: the robust ground's polar cells and face tests follow the sensor.
+  fmt::print(stderr,
+             "fieldlidar: warning: {}: no ring field; sensor assumed hdl64e (give --sensor)\n",
+             input);
   return SensorModel::hdl64e();
 }
 
@@ -34,7 +42,8 @@ segmentation::GroundMethod ground_method(const std::string& name) {
   if (name == "robust") return segmentation::GroundMethod::kRobust;
   if (name == "seed000") return segmentation::GroundMethod::kSeed000;
   if (name == "seed002") return segmentation::GroundMethod::kSeed002;
-  throw Error("--method '" + name + "' is not robust, seed000 or seed002");
+  if (name == "grid") return segmentation::GroundMethod::kGrid;
+  throw Error("--method '" + name + "' is not robust, grid, seed000 or seed002");
 }
 
 }  // namespace fieldlidar::app

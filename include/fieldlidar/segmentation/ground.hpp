@@ -29,9 +29,14 @@ enum class GroundMethod {
 /// a point is ground within [-below_m, above_m + slope_scale * local slope] of it. Works in the
 /// cloud's own frame, z up.
 struct GridGroundConfig {
-  double cell_m = 1.0;               ///< side of a grid cell
+  /// Side of a grid cell (m); 0 = from the density: 3 / sqrt(points per m^2 of the cloud's
+  /// extent), within [min_cell_m, max_cell_m] (an airborne 1 point/m^2: 3 m; a terrestrial plot:
+  /// min_cell_m). A cell needs a few returns for its lowest to be the ground's.
+  double cell_m = 0.0;
+  double min_cell_m = 0.5;
+  double max_cell_m = 4.0;
   double max_window_m = 18.0;        ///< largest opening window (side, m)
-  double max_slope = 0.6;            ///< rise over run of the steepest ground between windows
+  double max_slope = 0.3;            ///< rise over run of the steepest ground between windows
   double above_m = 0.2;              ///< points up to this above the ground surface are ground
   double slope_scale = 0.6;          ///< plus this times the surface's rise over run there (m/m)
   double below_m = 0.5;              ///< and down to this below it (lower: noise)
