@@ -3,7 +3,7 @@
 // a slope) sees its ground as a steep plane and the robust ground loses most of it. The cloud is
 // rotated so that the up direction -- measured, or the normal of the dominant ground plane below
 // the sensor -- becomes z, segmented, and the labels map back one to one. A level sensor costs
-// one pass over a quarter of the points and a small RANSAC over a few hundred cell minima.
+// one pass over about 8,000 of the points and a plane fit through a few hundred cell minima.
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 
 #include "fieldlidar/segmentation/ground.hpp"
+#include "ground_plane.hpp"
 #include "polar_grid.hpp"
 
 namespace fieldlidar::segmentation {
@@ -96,9 +97,37 @@ UpEstimate estimate_up(const PointCloud& cloud, const LevellingConfig& config) {
     out.found = true;
     return out;
   }
-  // A quarter of the points is plenty for the lowest return of 1 m cells near the sensor.
-  const std::vector<Eigen::Vector3f> lows = cell_minima(cloud, config.near_range_m, 4);
+  // About 8,000 returns are plenty for the lowest return of 1 m cells near the sensor (reading a
+  // whole 64-ring sweep costs more than the rest of the estimate).
+  const std::vector<Eigen::Vector3f> lows =
+      cell_minima(cloud, config.near_range_m, std::max<std::size_t>(1, cloud.size() / 8000));
   if (lows.size() < 12) return out;
+  // Level enough already? A trimmed fit from the level plane, its tilt bounded by the tolerance,
+  // that holds a quarter of the lows with (almost) none well below it is the ground: no search.
+  // Seen from a tilted sensor, half the ground lies below such a plane, or the fit leans on its
+  // bound (a fit within 1 deg of it is not taken).
+  const NearGroundPlane level = fit_plane_to_lows(lows, config.level_tolerance_deg / kDegPerRad);
+  if (level.found) {
+    Plane plane;
+    plane.n = Eigen::Vector3d(-level.a, -level.b, 1.0).normalized();
+    plane.d = -level.c * plane.n.z();
+    std::size_t inliers = 0, below = 0;
+    for (const Eigen::Vector3f& l : lows) {
+      const double dist = plane.distance(l);
+      inliers += std::abs(dist) <= config.inlier_band_m;
+      below += dist < -config.below_band_m;
+    }
+    const double tilt_deg = std::acos(std::clamp(plane.n.z(), -1.0, 1.0)) * kDegPerRad;
+    if (plane.d > 0.1 && 4 * inliers >= lows.size() && 50 * below <= lows.size() &&
+        tilt_deg <= config.level_tolerance_deg - 1.0) {
+      out.up = plane.n;
+      out.tilt_deg = tilt_deg;
+      out.sensor_height_m = plane.d;
+      out.support = inliers;
+      out.found = true;
+      return out;
+    }
+  }
   const double min_nz = std::cos(config.max_tilt_deg / kDegPerRad);
   // Deterministic hypotheses: a fixed-seed linear congruential generator.
   std::uint64_t state = 0x9E3779B97F4A7C15ull;
