@@ -110,7 +110,13 @@ void run(const SegmentOptions& o) {
   cfg.ground.method = choose_method(o, cloud);
   cfg.ground.levelling.up = up;
   const bool sweep = cfg.ground.method != segmentation::GroundMethod::kGrid;
-  // The grid ground needs no sensor; the clustering's defaults do not depend on it.
+  if (up.norm() > 0 && cfg.ground.method != segmentation::GroundMethod::kRobust)
+    throw Error("segment: --up levels the robust ground only, not --method " +
+                (sweep ? o.method : std::string("grid")));
+  if (!sweep && o.clusters == "range-image")
+    throw Error("segment: --clusters range-image needs one sensor sweep; " + o.input +
+                " is not one: give --clusters euclidean");
+  // The grid ground and the Euclidean clustering need no sensor.
   const SensorModel sensor = sweep ? sensor_for(cloud, o.input, o.sensor) : SensorModel::hdl64e();
   const std::string method_name = sweep ? (o.method == "auto" ? "robust" : o.method) : "grid";
   // Refuse early, before the work, when an output exists and --force is absent.

@@ -96,6 +96,10 @@ TEST(CliSegment, SaysWhatItGuessesAndTakesTheGridGroundForASurvey) {
   EXPECT_EQ(run_cli(args({"segment", quoted(data_file("kitti00/000000.bin")), "--up", "0,0,0"}))
                 .exit_code,
             1);
+  // Options that need a sweep are refused on a survey rather than ignored.
+  const auto topo = quoted(data_file("terrain_als/Topography.las"));
+  EXPECT_EQ(run_cli(args({"segment", topo, "--up", "0,0,1"})).exit_code, 1);
+  EXPECT_EQ(run_cli(args({"segment", topo, "--clusters", "range-image"})).exit_code, 1);
 }
 
 TEST(CliEvalGround, ScoresRellisLikeTheLibrary) {
