@@ -86,7 +86,9 @@ TEST(GridGround, AirborneTopographyAgainstItsClassifiedGround) {
   // Measured P 0.400 R 0.861 F1 0.546 (water not scored: P 0.514 F1 0.644). The class-2 returns
   // are about half of those on the ground surface: 5,130 unclassified returns lie within 0.2 m of
   // the surface through the class-2 ones, so that even that surface, thresholded at +-0.2 m,
-  // scores P ~0.53 F1 ~0.61. The robust ground (no sensor there) found 0 ground returns.
+  // scores P ~0.53 F1 ~0.61. The robust ground (no sensor there) found 0 ground returns. PCL's
+  // ProgressiveMorphologicalFilter (3 m cells, 20-cell window, slope 0.3-1, 0.2-3 m): P 0.392
+  // R 0.845 F1 0.535 in ~500 ms; with 1 m cells F1 0.476-0.496. This filter: ~5 ms.
   EXPECT_GE(s.recall, 0.84);
   EXPECT_GE(s.precision, 0.38);
   EXPECT_GE(s.f1, 0.53);
