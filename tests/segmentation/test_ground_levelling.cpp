@@ -88,6 +88,13 @@ TEST_P(TiltedGround, LevelledF1WithinTwoPointsOfTheLevelSensor) {
     }
 }
 
+// Measured (estimated up): lawn VLP-16 level 0.9829, tilted 10-35 deg 0.9853-0.9952 (not
+// levelled 0.31-0.97); lawn OS1-64 0.9905 -> 0.9904-0.9968 (0.60-0.95); terrain VLP-16 0.9801 ->
+// 0.9754-0.9973 (0.06-0.95); terrain OS1-64 0.9678 -> 0.9682-0.9945 (0.07-0.95). Tilted frames
+// score higher than level ones: the sensor sees more of the near ground. Not asserted: the forest
+// scene rolled 10 deg scores 0.933 (VLP-16) and 0.964 (OS1-64) against 0.981 and 0.992 level,
+// with a measured up as with the estimated one (recall 0.90: ground far out on the side looking
+// up, where the scan lines thin out); rolled 20-35 deg or pitched it scores 0.971-0.998.
 INSTANTIATE_TEST_SUITE_P(Scenes, TiltedGround,
                          ::testing::Values(Case{sim::SceneKind::kLawn, "vlp16", 1.0},
                                            Case{sim::SceneKind::kLawn, "os1-64", 4.0},
