@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <string>
 
 #include <benchmark/benchmark.h>
@@ -50,11 +51,32 @@ const Frame& frame(const std::string& name) {
     f.cloud = sim::LidarSimulator(scene, f.sensor).scan(1.0, motion.lidar_pose_fn()).cloud;
     f.ok = true;
 #endif
+  } else if (name == "vlp16-sim-roll30") {
+#ifdef FIELDLIDAR_BENCH_WITH_SIM
+    // The same sweep from a sensor rolled 30 deg on its mount (handheld, on a slope).
+    const sim::Scene scene = sim::make_scene(sim::SceneKind::kLawn, 7);
+    const auto motion = sim::drive_scene_route(scene, 2.0);
+    const Eigen::Matrix3d roll =
+        Eigen::AngleAxisd(30.0 * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX())
+            .toRotationMatrix();
+    f.sensor = SensorModel::vlp16();
+    f.cloud = sim::LidarSimulator(scene, f.sensor)
+                  .scan(1.0,
+                        [&motion, roll](double t) {
+                          Pose T = motion.T_world_lidar(t);
+                          T.linear() = T.linear() * roll;
+                          return T;
+                        })
+                  .cloud;
+    f.ok = true;
+#endif
   } else {
     const std::map<std::string, std::pair<std::string, std::string>> files = {
         {"rellis", {"rellis3d/000001.bin", "os1-64"}},
         {"kitti", {"kitti00/000000.bin", "hdl64e"}},
-        {"os128", {"pcd_os128/000000.pcd", "os1-128"}}};
+        {"os128", {"pcd_os128/000000.pcd", "os1-128"}},
+        {"topography", {"terrain_als/Topography.las", "hdl64e"}},  // no sensor: grid ground
+        {"pine_plot", {"forest_tls/pine_plot.las", "hdl64e"}}};
     const auto& [file, preset] = files.at(name);
     if (std::filesystem::exists(dir / file)) {
       f.cloud = io::read_cloud(dir / file);
@@ -98,6 +120,14 @@ BENCHMARK_CAPTURE(BM_Ground, os128_robust, "os128", GroundMethod::kRobust)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Ground, vlp16_robust, "vlp16-sim", GroundMethod::kRobust)
     ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Ground, vlp16_roll30_robust, "vlp16-sim-roll30", GroundMethod::kRobust)
+    ->Unit(benchmark::kMicrosecond);
+// Clouds that are not one sweep: an airborne tile (73k returns over 286 x 286 m, 3 m cells) and a
+// terrestrial plot (114k returns over 10 x 10 m, 0.5 m cells).
+BENCHMARK_CAPTURE(BM_Ground, topography_grid, "topography", GroundMethod::kGrid)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ground, pine_plot_grid, "pine_plot", GroundMethod::kGrid)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Ground, rellis_seed000, "rellis", GroundMethod::kSeed000)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Ground, kitti_seed000, "kitti", GroundMethod::kSeed000)
@@ -106,6 +136,24 @@ BENCHMARK_CAPTURE(BM_Ground, rellis_seed002, "rellis", GroundMethod::kSeed002)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Ground, kitti_seed002, "kitti", GroundMethod::kSeed002)
     ->Unit(benchmark::kMillisecond);
+
+// What the levelling costs a level sweep: the up estimate alone (the robust ground then runs on
+// the cloud as it is).
+void BM_EstimateUp(benchmark::State& state, const char* name) {
+  const Frame& f = frame(name);
+  if (!f.ok) {
+    state.SkipWithError("data is absent");
+    return;
+  }
+  for (auto _ : state) {
+    UpEstimate up = estimate_up(f.cloud);
+    benchmark::DoNotOptimize(up);
+  }
+  state.counters["tilt_deg"] = estimate_up(f.cloud).tilt_deg;
+}
+BENCHMARK_CAPTURE(BM_EstimateUp, rellis, "rellis")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_EstimateUp, kitti, "kitti")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_EstimateUp, vlp16, "vlp16-sim")->Unit(benchmark::kMicrosecond);
 
 void BM_RangeImage(benchmark::State& state) {
   REQUIRE_FRAME(f, "kitti");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,7 +28,8 @@ namespace fieldlidar::app {
 
 namespace {
 struct SegmentOptions {
-  std::string input, method = "robust", sensor, clusters = "euclidean";
+  std::string input, method = "auto", sensor, clusters = "euclidean";
+  std::vector<double> up;  ///< --up X,Y,Z: up in the lidar frame (empty: estimated)
   std::string labels_out, cloud_out, png_out;
   double tolerance_m = 0.5;
   std::size_t min_points = 21;
@@ -42,13 +44,16 @@ Rgb label_colour(std::uint32_t label) {
   return {1, 1, 1};
 }
 
-void draw_pictures(const std::string& path, const PointCloud& cloud, const SensorModel& sensor,
+// `sensor` is null for a cloud that is not one sweep: the whole cloud is drawn, without a range
+// image.
+void draw_pictures(const std::string& path, const PointCloud& cloud, const SensorModel* sensor,
                    const std::vector<std::uint32_t>& labels, std::size_t clusters, bool force) {
   // Top-down view, +-40 m around the sensor at most.
   Bounds3 b = compute_bounds(cloud);
   if (b.empty()) throw Error("segment: " + path + ": the cloud has no valid point to draw");
-  const Eigen::Vector2d lo(std::max(b.min.x(), -40.0), std::max(b.min.y(), -40.0));
-  const Eigen::Vector2d hi(std::min(b.max.x(), 40.0), std::min(b.max.y(), 40.0));
+  const double reach = sensor ? 40.0 : std::numeric_limits<double>::infinity();
+  const Eigen::Vector2d lo(std::max(b.min.x(), -reach), std::max(b.min.y(), -reach));
+  const Eigen::Vector2d hi(std::min(b.max.x(), reach), std::min(b.max.y(), reach));
   TopDownCanvas canvas(lo, hi, 1400);
   for (int pass = 0; pass < 2; ++pass)  // ground first, objects on top
     for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -62,8 +67,9 @@ void draw_pictures(const std::string& path, const PointCloud& cloud, const Senso
                  {"not in a cluster", label_colour(segmentation::kLabelUnclustered)},
                  {"clusters", palette(1)}});
   canvas.save_png(path, force);
+  if (!sensor) return;
   // Range image view next to it: OUT.png -> OUT.range.png, rows = rings (top = highest beam).
-  const segmentation::RangeImage image = segmentation::RangeImage::build(cloud, sensor);
+  const segmentation::RangeImage image = segmentation::RangeImage::build(cloud, *sensor);
   RasterImage raster(image.cols, image.rows);
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const std::int32_t cell = image.point_cell[i];
@@ -77,6 +83,28 @@ void draw_pictures(const std::string& path, const PointCloud& cloud, const Senso
   raster.save_png(range_path, force, 1, sy);
 }
 
+// The ground method of --method; "auto" is robust for one sensor sweep, grid for any other cloud
+// (said on stderr).
+segmentation::GroundMethod choose_method(const SegmentOptions& o, const PointCloud& cloud) {
+  if (o.method != "auto") return ground_method(o.method);
+  const segmentation::SweepCheck check = segmentation::check_sweep(cloud);
+  if (check.sweep || !o.sensor.empty()) return segmentation::GroundMethod::kRobust;
+  fmt::print(stderr,
+             "fieldlidar: warning: {}: not one sensor sweep ({}); ground by the grid method "
+             "(give --method robust and --sensor for a sweep)\n",
+             o.input, check.reason);
+  return segmentation::GroundMethod::kGrid;
+}
+
+Eigen::Vector3d up_option(const std::vector<double>& up) {
+  if (up.empty()) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d v(up[0], up[1], up[2]);
+  if (!v.allFinite() || !(v.norm() > 0))
+    throw Error(
+        fmt::format("--up {},{},{} is not a direction (finite, not zero)", up[0], up[1], up[2]));
+  return v;
+}
+
 void run(const SegmentOptions& o) {
   // Refuse early, before the work: an output that exists without --force, that is not a regular
   // file, or that is the input itself.
@@ -85,14 +113,26 @@ void run(const SegmentOptions& o) {
   range_png.replace_extension(".range.png");
   for (const auto& out : {o.labels_out, o.cloud_out, o.png_out, range_png.string()})
     if (!out.empty() && out != ".range.png") io::check_writable(out, o.force, inputs);
+  const Eigen::Vector3d up = up_option(o.up);
   const PointCloud cloud = io::read_cloud(o.input);
   if (cloud.valid_count() == 0)
     throw Error(o.input + ": the scan has no valid point (" + std::to_string(cloud.size()) +
                 " points): nothing to segment");
-  const SensorModel sensor = sensor_for(cloud, o.input, o.sensor);
 
   segmentation::SegmentConfig cfg;
-  cfg.ground.method = ground_method(o.method);
+  cfg.ground.method = choose_method(o, cloud);
+  cfg.ground.levelling.up = up;
+  const bool sweep = cfg.ground.method != segmentation::GroundMethod::kGrid;
+  if (up.norm() > 0 && cfg.ground.method != segmentation::GroundMethod::kRobust)
+    throw Error("segment: --up levels the robust ground only, not --method " +
+                (sweep ? o.method : std::string("grid")));
+  if (!sweep && o.clusters == "range-image")
+    throw Error("segment: --clusters range-image needs one sensor sweep; " + o.input +
+                " is not one: give --clusters euclidean");
+  // The grid ground and the Euclidean clustering need no sensor.
+  const SensorModel sensor = sweep ? sensor_for(cloud, o.input, o.sensor) : SensorModel::hdl64e();
+  const std::string method_name = sweep ? (o.method == "auto" ? "robust" : o.method) : "grid";
+
   if (o.clusters == "euclidean")
     cfg.cluster_method = segmentation::ClusterMethod::kEuclidean;
   else if (o.clusters == "range-image")
@@ -117,16 +157,21 @@ void run(const SegmentOptions& o) {
     io::write_cloud(o.cloud_out, out, w);
   }
   if (!o.png_out.empty())
-    draw_pictures(o.png_out, cloud, sensor, labels, r.clusters.clusters.size(), o.force);
+    draw_pictures(o.png_out, cloud, sweep ? &sensor : nullptr, labels, r.clusters.clusters.size(),
+                  o.force);
 
   nlohmann::json j;
   j["file"] = o.input;
-  j["sensor"] = sensor.name;
-  j["method"] = o.method;
+  j["sensor"] = sweep ? nlohmann::json(sensor.name) : nlohmann::json(nullptr);
+  j["method"] = method_name;
   j["points"] = cloud.size();
   j["valid_points"] = cloud.valid_count();
   j["ground_points"] = r.ground.ground_count;
-  j["sensor_height_m"] = r.ground.sensor_height_m;
+  if (sweep) {
+    j["sensor_height_m"] = r.ground.sensor_height_m;
+    j["tilt_deg"] = r.ground.tilt_deg;
+    j["levelled"] = r.ground.levelled;
+  }
   j["clusters"] = r.clusters.clusters.size();
   j["time_ms"] = ms;
   if (o.json) {
@@ -134,10 +179,17 @@ void run(const SegmentOptions& o) {
     return;
   }
   fmt::print("file:          {}\n", o.input);
-  fmt::print("sensor:        {} (height above ground estimated {:.2f} m)\n", sensor.name,
-             r.ground.sensor_height_m);
+  if (sweep) {
+    fmt::print("sensor:        {} (height above ground estimated {:.2f} m)\n", sensor.name,
+               r.ground.sensor_height_m);
+    fmt::print("tilt:          {:.1f} deg from {} ({})\n", r.ground.tilt_deg,
+               up.norm() > 0 ? "--up" : "the ground plane",
+               r.ground.levelled ? "levelled before the ground" : "level enough, left as is");
+  } else {
+    fmt::print("sensor:        none (not one sweep)\n");
+  }
   fmt::print("points:        {} ({} valid)\n", cloud.size(), cloud.valid_count());
-  fmt::print("ground:        {} points ({})\n", r.ground.ground_count, o.method);
+  fmt::print("ground:        {} points ({})\n", r.ground.ground_count, method_name);
   fmt::print("clusters:      {} ({}, {:.2f} m, >= {} points)\n", r.clusters.clusters.size(),
              o.clusters, o.tolerance_m, o.min_points);
   fmt::print("time:          {:.1f} ms\n", ms);
@@ -150,9 +202,16 @@ void add_segment_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "segment", "Split one scan into ground and object clusters (label file, cloud, PNG)");
   cmd->add_option("INPUT", opts->input, "Input scan (.bin KITTI, .pcd, .ply, .las)")->required();
-  cmd->add_option("--method", opts->method, "Ground method: robust, seed000, seed002")
+  cmd->add_option("--method", opts->method,
+                  "Ground method: auto (robust for one sensor sweep, grid for any other cloud), "
+                  "robust, grid, seed000, seed002")
       ->capture_default_str()
-      ->check(CLI::IsMember({"robust", "seed000", "seed002"}));
+      ->check(CLI::IsMember({"auto", "robust", "grid", "seed000", "seed002"}));
+  cmd->add_option("--up", opts->up,
+                  "Up direction X,Y,Z in the sensor frame, e.g. an IMU's accelerometer at rest "
+                  "(robust ground; default: from the ground plane)")
+      ->expected(3)
+      ->delimiter(',');
   cmd->add_option("--sensor", opts->sensor,
                   "Sensor preset (vlp16, hdl32e, hdl64e, os1-64, ...); default from the rings");
   cmd->add_option("--clusters", opts->clusters, "Clustering: euclidean or range-image")

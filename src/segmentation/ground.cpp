@@ -14,10 +14,12 @@ GroundResult segment_ground(const PointCloud& cloud, const SensorModel& sensor,
       return ground_seed000(cloud, sensor, config.seed000);
     case GroundMethod::kSeed002:
       return ground_seed002(cloud, sensor, config.seed002);
+    case GroundMethod::kGrid:
+      return ground_grid(cloud, config.grid);
     case GroundMethod::kRobust:
       break;
   }
-  return ground_robust(cloud, sensor, config.robust);
+  return ground_robust_levelled(cloud, sensor, config.robust, config.levelling);
 }
 
 }  // namespace fieldlidar::segmentation

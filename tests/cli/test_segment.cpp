@@ -26,8 +26,9 @@ TEST(CliSegment, WritesLabelsCloudAndPicturesAndRefusesToOverwrite) {
   const auto dir = temp_dir("cli_segment");
   const auto in = data_file("kitti00/000000.bin");
   const auto labels = dir / "out.label", png = dir / "out.png", pcd = dir / "out.pcd";
-  const auto r = run_cli(args({"segment", quoted(in), "--labels", quoted(labels), "--png",
-                               quoted(png), "--out", quoted(pcd), "--json"}));
+  const auto r =
+      run_cli(args({"segment", quoted(in), "--sensor", "hdl64e", "--labels", quoted(labels),
+                    "--png", quoted(png), "--out", quoted(pcd), "--json"}));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   EXPECT_EQ(j["points"].get<long>(), 124668);
@@ -62,6 +63,43 @@ TEST(CliSegment, WritesLabelsCloudAndPicturesAndRefusesToOverwrite) {
             0);
   EXPECT_EQ(run_cli(args({"segment", quoted(in), "--method", "nonsense"})).exit_code, 1);
   EXPECT_EQ(run_cli(args({"segment", quoted(dir / "missing.bin")})).exit_code, 1);
+}
+
+TEST(CliSegment, SaysWhatItGuessesAndTakesTheGridGroundForASurvey) {
+  FIELDLIDAR_REQUIRE_DATA("terrain_als/Topography.las");
+  FIELDLIDAR_REQUIRE_DATA("kitti00/000000.bin");
+  // No ring field and no --sensor: the sensor is a guess, and said to be one.
+  const auto kitti = run_cli(args({"segment", quoted(data_file("kitti00/000000.bin"))}));
+  ASSERT_EQ(kitti.exit_code, 0) << kitti.output;
+  EXPECT_NE(kitti.output.find("warning: "), std::string::npos) << kitti.output;
+  EXPECT_NE(kitti.output.find("sensor assumed hdl64e (give --sensor)"), std::string::npos);
+  EXPECT_NE(kitti.output.find("(robust)"), std::string::npos) << kitti.output;
+  // An airborne LAS tile is no sweep: the grid ground, with a warning saying why (it found 0
+  // ground returns of 8,159 classified ones as an HDL-64E sweep).
+  const auto las =
+      run_cli(args({"segment", quoted(data_file("terrain_als/Topography.las")), "--json"}));
+  ASSERT_EQ(las.exit_code, 0) << las.output;
+  EXPECT_NE(las.output.find("warning: "), std::string::npos) << las.output;
+  EXPECT_NE(las.output.find("not one sensor sweep"), std::string::npos) << las.output;
+  const auto j = nlohmann::json::parse(las.output.substr(las.output.find('{')));
+  EXPECT_EQ(j["method"].get<std::string>(), "grid");
+  EXPECT_TRUE(j["sensor"].is_null());
+  EXPECT_GT(j["ground_points"].get<long>(), 12000);
+  EXPECT_LT(j["ground_points"].get<long>(), 25000);
+  // A tilted sensor: --up levels the cloud first; a zero direction is refused.
+  const auto up = run_cli(args({"segment", quoted(data_file("kitti00/000000.bin")), "--sensor",
+                                "hdl64e", "--up", "0.5,0,1", "--json"}));
+  ASSERT_EQ(up.exit_code, 0) << up.output;
+  const auto ju = nlohmann::json::parse(up.output);
+  EXPECT_NEAR(ju["tilt_deg"].get<double>(), 26.57, 0.01);
+  EXPECT_TRUE(ju["levelled"].get<bool>());
+  EXPECT_EQ(run_cli(args({"segment", quoted(data_file("kitti00/000000.bin")), "--up", "0,0,0"}))
+                .exit_code,
+            1);
+  // Options that need a sweep are refused on a survey rather than ignored.
+  const auto topo = quoted(data_file("terrain_als/Topography.las"));
+  EXPECT_EQ(run_cli(args({"segment", topo, "--up", "0,0,1"})).exit_code, 1);
+  EXPECT_EQ(run_cli(args({"segment", topo, "--clusters", "range-image"})).exit_code, 1);
 }
 
 TEST(CliEvalGround, ScoresRellisLikeTheLibrary) {

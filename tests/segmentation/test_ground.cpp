@@ -1,6 +1,7 @@
 // Ground segmentation: synthetic scans with exact truth and the real RELLIS-3D off-road frame.
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -217,7 +218,8 @@ TEST(Ground, InvalidPointsAreNeverGround) {
       vlp, [](double, double) { return -1.0; }, {}, true);
   cloud.points[10] = Point{};  // the all-zero no-return marker
   cloud.points[11].x = std::numeric_limits<float>::quiet_NaN();
-  for (GroundMethod m : {GroundMethod::kRobust, GroundMethod::kSeed000, GroundMethod::kSeed002}) {
+  for (GroundMethod m : {GroundMethod::kRobust, GroundMethod::kSeed000, GroundMethod::kSeed002,
+                         GroundMethod::kGrid}) {
     GroundConfig cfg;
     cfg.method = m;
     const GroundResult r = segment_ground(cloud, vlp, cfg);
@@ -226,6 +228,39 @@ TEST(Ground, InvalidPointsAreNeverGround) {
   }
   // An empty cloud is fine.
   EXPECT_TRUE(segment_ground(PointCloud{}, vlp).is_ground.empty());
+}
+
+TEST(Ground, TiltedSensorIsLevelledFirst) {
+  // A VLP-16 1.2 m over flat ground, pitched 30 deg on its mount: in its own frame the ground is
+  // the plane z = x tan(30) - 1.2 / cos(30), and a post stands on it.
+  const double h = 1.2, t = 30.0 * std::numbers::pi / 180.0;
+  auto ground = [&](double x, double) { return x * std::tan(t) - h / std::cos(t); };
+  const SensorModel vlp = SensorModel::vlp16();
+  const std::vector<Box> boxes = {{{4.0, 2.0, ground(4.0, 0) - 0.5}, {4.3, 2.3, 3.0}}};
+  const PointCloud cloud = synthetic_scan(vlp, ground, boxes, true, 0.01);
+  const UpEstimate up = estimate_up(cloud);
+  EXPECT_NEAR(up.tilt_deg, 30.0, 1.0);
+  EXPECT_NEAR(up.sensor_height_m, h, 0.05);
+  EXPECT_LT(up.up.x(), -0.45);  // the ground rises towards +x: up leans back, towards -x
+  const GroundResult levelled = segment_ground(cloud, vlp);
+  EXPECT_TRUE(levelled.levelled);
+  EXPECT_NEAR(levelled.sensor_height_m, h, 0.05);
+  GroundConfig off;
+  off.levelling.enabled = false;
+  const GroundScore with = score_synthetic(cloud, levelled);
+  const GroundScore without = score_synthetic(cloud, segment_ground(cloud, vlp, off));
+  std::printf("pitched 30 deg: F1 %.4f levelled, %.4f not\n", with.f1, without.f1);
+  EXPECT_GT(with.f1, 0.98);
+  EXPECT_LT(without.f1, with.f1 - 0.1);
+  // A measured up direction (an IMU) does the same; one within the tolerance leaves the cloud as
+  // it is.
+  GroundConfig imu;
+  imu.levelling.up = Eigen::Vector3d(-std::sin(t), 0, std::cos(t));
+  EXPECT_GT(score_synthetic(cloud, segment_ground(cloud, vlp, imu)).f1, 0.98);
+  imu.levelling.up = Eigen::Vector3d(0.05, 0, 1);
+  const GroundResult small = segment_ground(cloud, vlp, imu);
+  EXPECT_FALSE(small.levelled);
+  EXPECT_EQ(small.is_ground, segment_ground(cloud, vlp, off).is_ground);
 }
 
 class RellisGround : public ::testing::Test {

@@ -9,12 +9,12 @@
 
 namespace fieldlidar::app {
 
-/// The named preset, or one guessed from the number of rings (no ring field: HDL-64E, as KITTI).
-/// Throws fieldlidar::Error naming --sensor or the input when neither works.
+/// The named preset, or one guessed from the number of rings (no ring field: HDL-64E, as KITTI),
+/// the guess said in a warning on stderr. Throws fieldlidar::Error naming --sensor or the input when neither works.
 SensorModel sensor_for(const PointCloud& cloud, const std::string& input,
                        const std::string& preset);
 
-/// "robust", "seed000" or "seed002"; throws fieldlidar::Error naming --method otherwise.
+/// "robust", "grid", "seed000" or "seed002"; throws fieldlidar::Error naming --method otherwise.
 segmentation::GroundMethod ground_method(const std::string& name);
 
 }  // namespace fieldlidar::app

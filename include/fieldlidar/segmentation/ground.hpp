@@ -1,8 +1,11 @@
 #pragma once
-/// \file Ground segmentation: three methods behind one call, per-point ground flags.
+/// \file Ground segmentation: four methods behind one call, per-point ground flags.
 
 #include <cstdint>
+#include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "fieldlidar/core/point_cloud.hpp"
 #include "fieldlidar/core/sensor_model.hpp"
@@ -14,6 +17,48 @@ enum class GroundMethod {
   kRobust,   ///< polar-grid local plane fits grown outward from the sensor (default)
   kSeed000,  ///< seed 000: height difference between neighbouring rows of the range image
   kSeed002,  ///< seed 002: downward beams, ground when H - h <= tolerance
+  /// Progressive morphological opening of a lowest-point grid, for clouds that are not one
+  /// sensor sweep (airborne or terrestrial surveys, merged maps): no rings, no sensor origin.
+  kGrid,
+};
+
+/// The grid ground (a simple morphological filter after Pingel et al. 2013, SMRF): the lowest
+/// return of each square cell, empty cells filled from their neighbours, then openings of
+/// growing square windows; a cell the opening lowers by more than slope * window radius stands
+/// on an object. The ground surface is the lowest-point grid without those cells (filled again);
+/// a point is ground within [-below_m, above_m + slope_scale * local slope] of it. Works in the
+/// cloud's own frame, z up.
+struct GridGroundConfig {
+  /// Side of a grid cell (m); 0 = from the density: 3 / sqrt(points per m^2 of the cloud's
+  /// extent), within [min_cell_m, max_cell_m] (an airborne 1 point/m^2: 3 m; a terrestrial plot:
+  /// min_cell_m). A cell needs a few returns for its lowest to be the ground's.
+  double cell_m = 0.0;
+  double min_cell_m = 0.5;
+  double max_cell_m = 4.0;
+  double max_window_m = 18.0;        ///< largest opening window (side, m)
+  double max_slope = 0.3;            ///< rise over run of the steepest ground between windows
+  double above_m = 0.2;              ///< points up to this above the ground surface are ground
+  double slope_scale = 0.6;          ///< plus this times the surface's rise over run there (m/m)
+  double below_m = 0.5;              ///< and down to this below it (lower: noise)
+  double low_outlier_m = 1.0;        ///< a cell this far below its neighbours' median is noise
+  std::size_t max_cells = 1u << 24;  ///< larger grids raise fieldlidar::Error (raise cell_m)
+};
+
+/// Levelling before the robust ground: a sensor tilted by more than level_tolerance_deg
+/// (handheld, on a slope) has its cloud rotated into a frame whose z is the up direction --
+/// measured (an IMU's gravity) or the normal of the dominant ground plane below the sensor --
+/// and the labels map back to the input points one to one.
+struct LevellingConfig {
+  bool enabled = true;
+  /// Up in the lidar frame (any length): e.g. an accelerometer's reading at rest rotated into
+  /// the lidar frame (it measures -gravity). Zero = unknown, estimated from the cloud.
+  Eigen::Vector3d up{0, 0, 0};
+  double level_tolerance_deg = 8.0;  ///< tilts up to this are left alone (the ground handles them)
+  double max_tilt_deg = 45.0;        ///< steepest ground plane the estimate considers
+  double near_range_m = 20.0;        ///< the estimate uses the lowest returns nearer than this
+  double inlier_band_m = 0.15;       ///< distance of a plane's inliers
+  double below_band_m = 0.5;         ///< returns farther below a candidate plane count against it
+  int hypotheses = 200;              ///< RANSAC plane hypotheses
 };
 
 /// seed 000, step 2: two vertically neighbouring range-image cells (rows below the horizon) are
@@ -125,6 +170,8 @@ struct RobustGroundConfig {
 struct GroundConfig {
   GroundMethod method = GroundMethod::kRobust;
   RobustGroundConfig robust;
+  LevellingConfig levelling;  ///< before the robust ground
+  GridGroundConfig grid;
   Seed000GroundConfig seed000;
   Seed002GroundConfig seed002;
 };
@@ -133,7 +180,43 @@ struct GroundResult {
   std::vector<std::uint8_t> is_ground;  ///< 1 per input point that is ground, else 0
   double sensor_height_m = 0.0;         ///< height of the sensor above the ground near it
   std::size_t ground_count = 0;
+  /// Tilt of the sensor from the up direction (deg) found by the levelling, and whether the
+  /// cloud was levelled before the robust ground (tilt above LevellingConfig::level_tolerance_deg).
+  double tilt_deg = 0.0;
+  bool levelled = false;
 };
+
+/// The up direction of a sweep in its lidar frame.
+struct UpEstimate {
+  Eigen::Vector3d up{0, 0, 1};   ///< unit
+  double tilt_deg = 0.0;         ///< angle between up and the lidar's z axis
+  double sensor_height_m = 0.0;  ///< above the ground plane found (estimate only)
+  std::size_t support = 0;       ///< lowest returns on the plane (estimate only)
+  bool found = false;            ///< false: too few low returns, up stays z
+};
+
+/// The normal of the dominant ground plane below the sensor: RANSAC over the lowest return of
+/// each cell of a coarse polar grid nearer than near_range_m, planes within max_tilt_deg of z
+/// with the sensor above them, scored by their inliers less the returns well below them (the
+/// ground is the lowest large plane), then refined by least squares on the inliers.
+UpEstimate estimate_up(const PointCloud& cloud, const LevellingConfig& config = {});
+
+/// The robust ground after levelling (LevellingConfig): what segment_ground runs for kRobust.
+GroundResult ground_robust_levelled(const PointCloud& cloud, const SensorModel& sensor,
+                                    const RobustGroundConfig& robust,
+                                    const LevellingConfig& levelling);
+
+GroundResult ground_grid(const PointCloud& cloud, const GridGroundConfig& config = {});
+
+/// Whether a cloud can be one sweep of a sensor at its origin (the robust ground assumes it).
+struct SweepCheck {
+  bool sweep = false;
+  std::string reason;  ///< why (e.g. "ring field", "no return within 2 m below the origin")
+};
+/// A ring field or an organised layout is a sweep. Otherwise the points must surround the origin
+/// (returns in at least half of 16 azimuth sectors) and the origin must sit above the ground
+/// near it (the lowest returns 2-20 m out lie 0.1-10 m below it).
+SweepCheck check_sweep(const PointCloud& cloud);
 
 /// Ground flags for every point of `cloud` (invalid points are never ground).
 GroundResult segment_ground(const PointCloud& cloud, const SensorModel& sensor,
