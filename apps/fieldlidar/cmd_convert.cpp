@@ -136,11 +136,11 @@ void convert_stream(const ConvertOptions& o) {
   fmt::print("wrote {} frames ({} points) as {} to {}/ with their stamps in times.txt\n", written,
              points, o.format, o.output);
   if (unstamped)
-    fmt::print(stderr,
-               "warning: {} of {} frames carry no time stamp (the input has none): their lines in "
-               "times.txt are 0\n",
-               unstamped, written);
-  if (written && points == 0) fmt::print(stderr, "warning: every frame of {} is empty\n", o.input);
+    warn(
+        fmt::format("{} of {} frames carry no time stamp (the input has none): their lines in "
+                    "times.txt are 0",
+                    unstamped, written));
+  if (written && points == 0) warn(fmt::format("every frame of {} is empty", o.input));
   if (skipped)
     fmt::print("skipped {} partial sweeps at the capture's ends (--partial keeps them)\n", skipped);
   if (o.format == "bin")
@@ -177,7 +177,7 @@ void add_convert_command(CLI::App& app) {
     if (!single_file_conversion(*opts)) return convert_stream(*opts);
     io::check_writable(opts->output, opts->force, {opts->input});
     const PointCloud cloud = io::read_cloud(opts->input);
-    if (cloud.empty()) fmt::print(stderr, "warning: {} has no points\n", opts->input);
+    if (cloud.empty()) warn(fmt::format("{} has no points", opts->input));
     io::WriteOptions w;
     w.overwrite = opts->force;
     w.binary = !opts->ascii;

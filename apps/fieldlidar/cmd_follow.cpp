@@ -18,6 +18,7 @@
 #include "follow_job.hpp"
 #include "support/canvas.hpp"
 #include "support/option_checks.hpp"
+#include "support/warnings.hpp"
 
 namespace fieldlidar::app {
 
@@ -127,10 +128,8 @@ void run_follow(const FollowOptions& o) {
                     o.target_id, r.rows.size(), r.duration_s));
   const auto shape = follow::boundary_shape(r.boundary);
   if (shape != follow::BoundaryShape::kPolygon)
-    fmt::print(stderr,
-               "warning: the boundary is not a closed polygon ({}); {} holds it as a "
-               "LineString\n",
-               follow::to_string(shape), geojson.string());
+    warn(fmt::format("the boundary is not a closed polygon ({}); {} holds it as a LineString",
+                     follow::to_string(shape), geojson.string()));
   fs::create_directories(dir);
   for (const auto& p : {geojson, csv, log, summary, png}) io::check_writable(p, o.force);
 

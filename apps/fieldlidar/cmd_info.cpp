@@ -246,7 +246,7 @@ void add_info_command(CLI::App& app) {
   cmd->callback([opts] {
     const auto j = describe(*opts);
     if (j.value("points", 0L) == 0 && !j.contains("note"))
-      fmt::print(stderr, "warning: {} holds no points\n", opts->input);
+      warn(fmt::format("{} holds no points", opts->input));
     if (opts->json)
       std::printf("%s\n", j.dump(2).c_str());
     else

@@ -23,9 +23,9 @@
 #include "fieldlidar/people/leg_training.hpp"
 #include "fieldlidar/people/legs_2d_pipeline.hpp"
 #include "fieldlidar/people/tracker.hpp"
+#include "support/option_checks.hpp"
 #include "support/shipped_data.hpp"
 #include "support/warnings.hpp"
-#include "support/option_checks.hpp"
 
 namespace fieldlidar::app {
 
@@ -190,7 +190,7 @@ void run_legs(const LegsOptions& o) {
     }
   }
   warn_source_losses(*source);
-  if (frames == 0) fmt::print(stderr, "warning: {} holds no scans\n", o.input);
+  if (frames == 0) warn(fmt::format("{} holds no scans", o.input));
   io::write_file_atomic(out, csv, o.force);
   fmt::print(
       "legs: {} scans, {} legs, {} tracked persons ({} person detections, {:.4f} per scan)\n",
