@@ -161,6 +161,19 @@ Truth simulated_truth(const EvalTrackingOptions& o) {
   return t;
 }
 
+/// The sensor preset a simulated folder names in its scene.json ("" when it names none).
+std::string simulated_sensor(const fs::path& dir) {
+  const fs::path meta = dir / "scene.json";
+  if (!fs::exists(meta)) return {};
+  const auto bytes = io::read_file_bytes(meta);
+  try {
+    const auto j = nlohmann::json::parse(bytes.begin(), bytes.end());
+    return j.value("sensor", std::string());
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(meta.string() + ": not valid JSON (" + e.what() + ")");
+  }
+}
+
 /// Person rows of a `legs --out` CSV, put in the frame whose stamp they carry.
 PersonsPerFrame read_detections(const fs::path& csv, const std::vector<double>& stamps_s) {
   PersonsPerFrame out(stamps_s.size());
@@ -197,6 +210,9 @@ PersonsPerFrame run_tracker(const EvalTrackingOptions& o, const Truth& truth) {
   auto source = io::FrameSource::open(truth.frames_input, so);
   PersonsPerFrame out;
   while (auto frame = source->next()) {
+    // A simulated folder's frame files carry no stamps: its times.txt is their clock.
+    if (!truth.bag && frame->index < truth.stamps_s.size())
+      frame->stamp_s = truth.stamps_s[frame->index];
     const auto found = runner.process(*frame, *source);
     auto& v = out.emplace_back();
     for (std::size_t i = 0; i < found.persons.size(); ++i)
@@ -220,11 +236,19 @@ std::vector<IdentifiedPoint> in_wedge(const std::vector<IdentifiedPoint>& v,
 }
 
 void run_eval_tracking(EvalTrackingOptions o) {
+  if (o.truth_wedge.size() == 2 && !(o.truth_wedge[0] < o.truth_wedge[1]))
+    throw Error(fmt::format("--truth-wedge: BEARING_MIN {} must be below BEARING_MAX {}",
+                            o.truth_wedge[0], o.truth_wedge[1]));
   const bool folder = fs::is_directory(o.input);
   const Truth truth = folder ? simulated_truth(o) : bag_truth(o);
+  if (folder && o.legs.sensor.empty()) o.legs.sensor = simulated_sensor(o.input);
   // The leg_tracker benchmark scores bearings -80..12 deg of its bags' laser frame.
   if (o.truth_wedge.empty() && truth.bag) o.truth_wedge = {-80.0, 12.0};
   o.legs.input = o.input;
+  if (folder && !o.detections.empty())
+    throw Error(
+        "eval-tracking: --detections pairs tracked persons with frames by stamp, and the "
+        "frame files of a simulated folder carry none: run without --detections");
   const PersonsPerFrame tracked =
       o.detections.empty() ? run_tracker(o, truth) : read_detections(o.detections, truth.stamps_s);
 
