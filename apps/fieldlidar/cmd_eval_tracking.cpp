@@ -43,6 +43,7 @@ struct EvalTrackingOptions {
   std::string detections;
   std::vector<double> truth_wedge;  ///< bearing min, max (deg)
   double gate_m = 0.75;
+  int truth_min_points = 0;  ///< simulated folders: persons hit by fewer returns are not scored
   bool paper_switches = false;
   bool json = false;
   LegsRunOptions legs;
@@ -145,8 +146,9 @@ Truth simulated_truth(const EvalTrackingOptions& o) {
   const auto poses = io::read_kitti_poses(dir / "poses.txt", dir / "times.txt");
   t.persons.resize(poses.size());
   for (std::size_t i = 0; i < poses.size(); ++i) t.stamps_s.push_back(poses[i].stamp_s);
-  read_csv(dir / "people.csv", {"frame", "id", "x_m", "y_m"},
+  read_csv(dir / "people.csv", {"frame", "id", "x_m", "y_m", "points"},
            [&](const std::vector<std::string>& c, const std::string& where) {
+             if (to_number(c[4], where + " points") < o.truth_min_points) return;
              const double f = to_number(c[0], where + " frame");
              if (f < 0 || f >= double(poses.size()) || f != std::floor(f))
                throw Error(where + ": frame " + c[0] + " is not one of the " +
@@ -336,6 +338,11 @@ void add_eval_tracking_command(CLI::App& app) {
           return std::string("must be a number");
         }
       });
+  cmd->add_option("--truth-min-points", o->truth_min_points,
+                  "Simulated folder: score only persons hit by at least this many returns "
+                  "(people.csv `points`)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--gate", o->gate_m, "Match distance: strictly closer matches (m)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

@@ -99,6 +99,14 @@ TEST(CliEvalTracking, SimulatedFolderScoresPeopleCsvInTheLidarFrame) {
   EXPECT_GE(double(j["mota"]), 0.85);
   EXPECT_LT(double(j["motp_m"]), 0.15);  // a wrong world -> lidar transform would be metres off
   EXPECT_EQ(j["id_switches"], 0);
+  // The operator is hit by ~250-340 returns per sweep: all of them pass 100, none 100000.
+  const auto seen = eval_json(test::quoted(dir) + " --truth-min-points 100");
+  ASSERT_FALSE(seen.is_null());
+  EXPECT_EQ(seen["truth_scored"], 20);
+  const auto none = eval_json(test::quoted(dir) + " --truth-min-points 100000");
+  ASSERT_FALSE(none.is_null());
+  EXPECT_EQ(none["truth_scored"], 0);
+  EXPECT_EQ(none["false_positives"], j["tracked_persons"]);
 
   // Its frame files carry no stamps, so a detections CSV cannot be paired with them.
   std::ofstream(dir / "det.csv") << "stamp,kind,x,y,track_id\n";
