@@ -114,6 +114,13 @@ TEST(CliEvalTracking, SimulatedFolderScoresPeopleCsvInTheLidarFrame) {
                                test::quoted(dir / "det.csv"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("--detections"), std::string::npos) << r.output;
+
+  // A folder that no simulation wrote: said so.
+  const auto empty = test::temp_dir("eval_tracking_empty");
+  const auto e = test::run_cli("eval-tracking " + test::quoted(empty));
+  EXPECT_EQ(e.exit_code, 1);
+  EXPECT_NE(e.output.find("not a folder written by `fieldlidar simulate`"), std::string::npos)
+      << e.output;
 }
 
 TEST(CliEvalTracking, WrongAnnotationTopicIsAnErrorListingTheTopics) {

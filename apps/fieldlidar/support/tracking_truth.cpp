@@ -100,6 +100,13 @@ TrackingTruth bag_person_truth(const std::string& bag, const std::string& scan_t
 }
 
 TrackingTruth simulated_person_truth(const fs::path& dir, double min_points) {
+  if (!fs::exists(dir / "poses.txt"))
+    throw Error(dir.string() +
+                ": not a folder written by `fieldlidar simulate` (no poses.txt); eval-tracking "
+                "reads such a folder or a bag with leg_tracker/Person annotations");
+  if (!fs::exists(dir / "people.csv"))
+    throw Error((dir / "people.csv").string() +
+                ": no such file (the simulated scene has no people to score)");
   TrackingTruth t;
   t.frames_input = (dir / "pcd").string();
   const auto poses = io::read_kitti_poses(dir / "poses.txt", dir / "times.txt");
