@@ -6,25 +6,19 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <set>
-#include <sstream>
 #include <string>
 
 #include <fmt/core.h>
 
 #include "commands.hpp"
-#include "fieldlidar/core/error.hpp"
-#include "fieldlidar/follow/pipeline.hpp"
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/io/rosbag_reader.hpp"
 #include "fieldlidar/people/leg_training.hpp"
-#include "fieldlidar/people/legs_2d_pipeline.hpp"
-#include "fieldlidar/people/tracker.hpp"
+#include "support/legs_runner.hpp"
 #include "support/option_checks.hpp"
-#include "support/shipped_data.hpp"
 #include "support/warnings.hpp"
 
 namespace fieldlidar::app {
@@ -48,30 +42,6 @@ struct LegsOptions {
   bool force = false;
 };
 
-/// The shipped 2D config (with its learned classifier): legs_2d.yaml of shipped_config_dirs().
-/// Missing, it is an error naming the folders searched (leg recall drops a lot without the
-/// classifier), unless --no-classifier or --seed-only ask for the shape tests only.
-std::string default_2d_config(bool no_classifier, std::string& missing) {
-  if (const auto p = find_shipped_config("legs_2d.yaml")) return p->string();
-  if (no_classifier) return {};
-  std::string searched;
-  for (const auto& d : shipped_config_dirs())
-    searched += (searched.empty() ? "" : ", ") + d.string();
-  missing = "the shipped leg classifier config legs_2d.yaml is not in " +
-            (searched.empty() ? std::string("any known folder") : searched) +
-            " (a broken install?): give --config FILE, or --no-classifier to detect legs by "
-            "their shape only";
-  return {};
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  if (!in) throw Error(p.string() + ": cannot be read");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 void run_legs(const LegsOptions& o) {
   if (o.truth_wedge.size() == 3) {
     require(o.truth_wedge[0] < o.truth_wedge[1], "--truth-wedge",
@@ -82,25 +52,12 @@ void run_legs(const LegsOptions& o) {
   }
   const fs::path out(o.out);
   io::check_writable(out, o.force, {o.input});
-  people::LegDetectorConfig legs = people::default_2d_legs();
-  std::string missing_config;  // the 2D default config that was not found (an error for 2D scans)
-  const std::string config_path =
-      o.config.empty() ? default_2d_config(o.no_classifier || o.seed_only, missing_config)
-                       : o.config;
-  std::string classifier_path;
-  if (!config_path.empty()) {
-    legs = people::legs_config_from_yaml(read_text(config_path), config_path, legs);
-    if (o.no_classifier) legs.classifier_file.clear();
-    if (!legs.classifier_file.empty()) {
-      // The learned classifier lives next to the config (legs-train writes both).
-      fs::path model(legs.classifier_file);
-      if (model.is_relative()) model = fs::path(config_path).parent_path() / model;
-      legs.classifier = std::make_shared<const people::LegClassifier>(
-          people::leg_classifier_from_yaml(read_text(model), model.string()));
-      classifier_path = model.string();
-    }
-  }
-  if (o.seed_only) legs = people::seed_only(legs);
+  LegsRunner runner({.input = o.input,
+                     .config = o.config,
+                     .sensor = o.sensor,
+                     .seed_only = o.seed_only,
+                     .still = o.still,
+                     .no_classifier = o.no_classifier});
 
   // Annotated legs per scan. The annotation bags record one PoseArray per scan, in step, with
   // stamps of their own: they are paired with the scans by order.
@@ -114,63 +71,24 @@ void run_legs(const LegsOptions& o) {
   io::SourceOptions so;
   so.topic = o.topic;
   auto source = io::FrameSource::open(o.input, so);
-  people::TrackerConfig tc;
-  tc.gate_max_m = 0.8;
-  people::PersonTracker tracker(tc);
-  follow::FollowConfig follow_cfg;
-  std::optional<SensorModel> sensor;
-  people::LegPipeline2DConfig pipeline_config;
-  pipeline_config.detector = legs;
-  pipeline_config.estimate_ego_motion = !o.still;
-  people::LegPipeline2D pipeline(pipeline_config);
-
   std::string csv = "stamp,kind,x,y,track_id\n";
   std::size_t frames = 0, legs_total = 0, persons_total = 0, scored = 0;
-  bool scans_2d = false;
   std::set<long long> person_ids;  // distinct tracked persons
   people::MatchCounts counts;
   char buf[160];
   while (auto frame = source->next()) {
     ++frames;
-    std::vector<Eigen::Vector2d> leg_pos, person_pos;
-    std::vector<long long> person_id;
-    if (frame->cloud.ring_count() <= 1) {
-      // A 2D scan is one ring: points in beam order. Persons are the pipeline's tracked people.
-      if (!missing_config.empty()) throw Error(missing_config);
-      scans_2d = true;
-      const auto det = pipeline.process(frame->stamp_s, people::scan_points_2d(frame->cloud));
-      for (const auto& l : det.legs) leg_pos.push_back(l.position_m);
-      for (const auto& p : det.people) {
-        person_pos.push_back(p.position_m);
-        person_id.push_back(p.track);
-      }
-    } else {
-      if (!sensor) {
-        sensor = source->sensor();
-        if (!sensor && !o.sensor.empty()) sensor = SensorModel::preset(o.sensor);
-        if (!sensor)
-          throw Error(o.input + ": 3D frames of an unknown sensor: give --sensor (e.g. vlp16)");
-      }
-      follow_cfg.legs = o.config.empty() ? follow::FollowConfig::default_3d_legs() : legs;
-      const auto per = follow::perceive(frame->cloud, *sensor, Pose::Identity(), follow_cfg);
-      leg_pos = per.legs_m;
-      // Tracking in the sensor frame (the sensor is assumed still); confirmed tracks only.
-      const auto upd = tracker.update(frame->stamp_s, per.people_m);
-      for (std::size_t i = 0; i < per.people_m.size(); ++i) {
-        const auto id = upd.track_of_detection[i];
-        const auto* t = id >= 0 ? tracker.find(std::uint32_t(id)) : nullptr;
-        if (!t || !t->confirmed) continue;
-        person_pos.push_back(per.people_m[i]);
-        person_id.push_back(id);
-      }
-    }
+    const auto found = runner.process(*frame, *source);
+    const auto& leg_pos = found.legs;
+    const auto& person_pos = found.persons;
+    const auto& person_id = found.person_ids;
     for (const auto& l : leg_pos) {
       std::snprintf(buf, sizeof buf, "%.6f,leg,%.4f,%.4f,-1\n", frame->stamp_s, l.x(), l.y());
       csv += buf;
     }
     for (std::size_t i = 0; i < person_pos.size(); ++i) {
       std::snprintf(buf, sizeof buf, "%.6f,person,%.4f,%.4f,%lld\n", frame->stamp_s,
-                    person_pos[i].x(), person_pos[i].y(), person_id[i]);
+                    person_pos[i].x(), person_pos[i].y(), (long long)person_id[i]);
       csv += buf;
     }
     legs_total += leg_pos.size();
@@ -207,10 +125,7 @@ void run_legs(const LegsOptions& o) {
             : std::string(),
         counts.recall(), counts.precision(), counts.true_positive, counts.false_positive,
         counts.false_negative);
-  if (scans_2d)
-    fmt::print("legs: 2D detector {}, classifier {}\n",
-               config_path.empty() ? "defaults" : config_path,
-               classifier_path.empty() ? "none (shape tests only)" : classifier_path);
+  if (runner.scans_2d()) fmt::print("legs: {}\n", runner.detector_summary());
   fmt::print("wrote {}\n", out.string());
 }
 

@@ -289,4 +289,12 @@ PoseArraySample parse_pose_array(std::span<const std::uint8_t> bytes) {
   return s;
 }
 
+PersonAnnotation parse_leg_tracker_person(std::span<const std::uint8_t> bytes) {
+  WireReader r(bytes, "leg_tracker/Person");
+  PersonAnnotation a;
+  a.pose = r.pose();
+  a.id = r.read<std::uint32_t>();
+  return a;
+}
+
 }  // namespace fieldlidar::io

@@ -2,6 +2,7 @@
 #include "fieldlidar/io/rosbag_reader.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <deque>
 #include <limits>
 #include <optional>
@@ -26,6 +27,7 @@ constexpr KnownType kPointCloud2{"sensor_msgs/PointCloud2", "1158d486dd51d683ce2
 constexpr KnownType kImu{"sensor_msgs/Imu", "6a62c6daae103f4ff57a132d6f95cec2"};
 constexpr KnownType kOdometry{"nav_msgs/Odometry", "cd5e73d190d741a2f92e81eda573aca7"};
 constexpr KnownType kPoseArray{"geometry_msgs/PoseArray", "916c28c5764443f268b296bb671b9d97"};
+constexpr KnownType kPerson{"leg_tracker/Person", "4f334171b5664340c323a1982b554a22"};
 
 bool is_type(const BagTopic& t, const KnownType& k) {
   return t.datatype == k.datatype;
@@ -247,6 +249,56 @@ std::vector<PoseArraySample> read_pose_arrays(const std::filesystem::path& bag,
   check_md5(bag, *it, kPoseArray);
   TopicStream<PoseArraySample> stream(*b, {topic}, &parse_pose_array, bag.string());
   return stream.until(std::numeric_limits<double>::infinity());
+}
+
+std::vector<ScanAnnotations> read_person_annotations(const std::filesystem::path& bag,
+                                                     const std::string& scan_topic,
+                                                     const std::string& person_topic) {
+  auto b = open_bag(bag);
+  const auto topics = topics_of(*b);
+  auto find = [&](const std::string& name) {
+    auto it = std::find_if(topics.begin(), topics.end(),
+                           [&](const BagTopic& t) { return t.name == name; });
+    if (it == topics.end())
+      throw Error(bag.string() + ": no topic '" + name +
+                  "' in the bag; topics: " + list_topics(topics));
+    return *it;
+  };
+  const BagTopic scans = find(scan_topic), people = find(person_topic);
+  if (!is_type(scans, kLaserScan) && !is_type(scans, kPointCloud2))
+    throw Error(bag.string() + ": topic '" + scan_topic + "' is " + scans.datatype +
+                ", not sensor_msgs/LaserScan or sensor_msgs/PointCloud2");
+  if (!is_type(people, kPerson))
+    throw Error(bag.string() + ": topic '" + person_topic + "' is " + people.datatype +
+                ", not leg_tracker/Person");
+  check_md5(bag, people, kPerson);
+  std::vector<ScanAnnotations> out;
+  std::vector<std::uint8_t> buf;
+  try {
+    rosbag::View view(*b, rosbag::TopicQuery(std::vector<std::string>{scan_topic, person_topic}));
+    for (const auto& m : view) {
+      message_bytes(m, buf);
+      if (m.getTopic() == scan_topic) {
+        // Every scan message starts with a std_msgs/Header: seq, stamp sec, stamp nsec.
+        if (buf.size() < 12)
+          throw Error(bag.string() + ": topic '" + scan_topic + "' message " +
+                      std::to_string(out.size()) + " is shorter than its header");
+        std::uint32_t sec = 0, nsec = 0;
+        std::memcpy(&sec, buf.data() + 4, 4);
+        std::memcpy(&nsec, buf.data() + 8, 4);
+        out.push_back({double(sec) + double(nsec) * 1e-9, {}});
+      } else if (!out.empty()) {
+        try {
+          out.back().people.push_back(parse_leg_tracker_person(buf));
+        } catch (const Error& e) {
+          throw Error(bag.string() + ": topic '" + person_topic + "': " + e.what());
+        }
+      }
+    }
+  } catch (const rosbag::BagException& e) {
+    throw Error(bag.string() + ": a message cannot be read: " + e.what());
+  }
+  return out;
 }
 
 std::unique_ptr<FrameSource> open_rosbag(const std::filesystem::path& bag,

@@ -1,6 +1,7 @@
 #pragma once
-/// \file ROS1 bags: sensor_msgs/PointCloud2, LaserScan, Imu, nav_msgs/Odometry and
-/// geometry_msgs/PoseArray, decoded from their serialized bytes (ROS1 wire format).
+/// \file ROS1 bags: sensor_msgs/PointCloud2, LaserScan, Imu, nav_msgs/Odometry,
+/// geometry_msgs/PoseArray and leg_tracker/Person, decoded from their serialized bytes (ROS1 wire
+/// format).
 
 #include <cstddef>
 #include <cstdint>
@@ -32,6 +33,28 @@ std::map<std::string, std::size_t> bag_topic_counts(const std::filesystem::path&
 std::vector<PoseArraySample> read_pose_arrays(const std::filesystem::path& bag,
                                               const std::string& topic);
 
+/// leg_tracker/Person, the person annotation of the leg_tracker benchmarks: a pose and an id, no
+/// header (no stamp, no frame).
+struct PersonAnnotation {
+  std::uint32_t id = 0;
+  Pose pose = Pose::Identity();
+};
+
+/// The annotations that belong to one scan.
+struct ScanAnnotations {
+  double scan_stamp_s = 0;  ///< header stamp of the scan
+  std::vector<PersonAnnotation> people;
+};
+
+/// leg_tracker/Person messages of `person_topic` paired with the scans of `scan_topic` by bag
+/// order, as the leg_tracker benchmark scores them: the messages recorded after a scan and before
+/// the next one belong to that scan (those before the first scan belong to none). One entry per
+/// scan message, in the order a FrameSource on `scan_topic` yields the frames. Throws
+/// fieldlidar::Error naming the bag's topics when a topic is absent or of another type.
+std::vector<ScanAnnotations> read_person_annotations(const std::filesystem::path& bag,
+                                                     const std::string& scan_topic,
+                                                     const std::string& person_topic);
+
 /// A bag as a FrameSource: frames from one PointCloud2 or LaserScan topic, IMU and odometry from
 /// every sensor_msgs/Imu and nav_msgs/Odometry topic.
 std::unique_ptr<FrameSource> open_rosbag(const std::filesystem::path& bag,
@@ -50,5 +73,6 @@ PointCloud parse_point_cloud2(std::span<const std::uint8_t> bytes);
 ImuSample parse_imu(std::span<const std::uint8_t> bytes);
 OdometrySample parse_odometry(std::span<const std::uint8_t> bytes);
 PoseArraySample parse_pose_array(std::span<const std::uint8_t> bytes);
+PersonAnnotation parse_leg_tracker_person(std::span<const std::uint8_t> bytes);
 
 }  // namespace fieldlidar::io

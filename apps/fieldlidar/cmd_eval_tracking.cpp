@@ -1,0 +1,204 @@
+// fieldlidar eval-tracking INPUT: CLEAR MOT (MOTA, MOTP, misses, false positives, id switches)
+// and person recall of tracked persons against annotated persons, as the leg_tracker benchmarks
+// score 2D person trackers (0.75 m gate). INPUT is a ROS1 bag with leg_tracker/Person annotations
+// (e.g. general_tracking_moving_1.bag) or a folder written by `fieldlidar simulate` (people.csv).
+// The tracked persons come from the `legs` pipeline run on INPUT, or from a CSV `legs --out`
+// wrote.
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/people/clear_mot.hpp"
+#include "fieldlidar/people/leg_training.hpp"
+#include "support/legs_runner.hpp"
+#include "support/tracking_truth.hpp"
+#include "support/warnings.hpp"
+
+namespace fieldlidar::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+using people::IdentifiedPoint;
+
+struct EvalTrackingOptions {
+  std::string input;
+  std::string topic;
+  std::string truth_topic = "/ground_truth_people_tracks";
+  std::string detections;
+  std::vector<double> truth_wedge;  ///< bearing min, max (deg)
+  double gate_m = 0.75;
+  int truth_min_points = 0;  ///< simulated folders: persons hit by fewer returns are not scored
+  bool paper_switches = false;
+  bool json = false;
+  LegsRunOptions legs;
+};
+
+/// Runs the legs pipeline on the frames of `truth` and returns its tracked persons per frame.
+PersonsPerFrame run_tracker(const EvalTrackingOptions& o, const TrackingTruth& truth) {
+  LegsRunner runner(o.legs);
+  io::SourceOptions so;
+  so.topic = truth.topic;
+  auto source = io::FrameSource::open(truth.frames_input, so);
+  PersonsPerFrame out;
+  while (auto frame = source->next()) {
+    // A simulated folder's frame files carry no stamps: its times.txt is their clock.
+    if (!truth.bag && frame->index < truth.stamps_s.size())
+      frame->stamp_s = truth.stamps_s[frame->index];
+    const auto found = runner.process(*frame, *source);
+    auto& v = out.emplace_back();
+    for (std::size_t i = 0; i < found.persons.size(); ++i)
+      v.push_back({found.person_ids[i], found.persons[i]});
+  }
+  warn_source_losses(*source);
+  if (out.size() != truth.persons.size())
+    throw Error(o.input + ": " + std::to_string(out.size()) + " frames read but " +
+                std::to_string(truth.persons.size()) + " frames of truth");
+  return out;
+}
+
+std::vector<IdentifiedPoint> in_wedge(const std::vector<IdentifiedPoint>& v,
+                                      const std::vector<double>& wedge) {
+  if (wedge.size() != 2) return v;
+  std::vector<IdentifiedPoint> out;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const auto& p : v)
+    if (people::in_bearing_wedge(p.position_m, wedge[0], wedge[1], inf)) out.push_back(p);
+  return out;
+}
+
+void run_eval_tracking(EvalTrackingOptions o) {
+  if (o.truth_wedge.size() == 2 && !(o.truth_wedge[0] < o.truth_wedge[1]))
+    throw Error(fmt::format("--truth-wedge: BEARING_MIN {} must be below BEARING_MAX {}",
+                            o.truth_wedge[0], o.truth_wedge[1]));
+  const bool folder = fs::is_directory(o.input);
+  const TrackingTruth truth = folder ? simulated_person_truth(o.input, o.truth_min_points)
+                                     : bag_person_truth(o.input, o.topic, o.truth_topic);
+  if (folder && o.legs.sensor.empty()) o.legs.sensor = simulated_sensor(o.input);
+  // The leg_tracker benchmark scores bearings -80..12 deg of its bags' laser frame.
+  if (o.truth_wedge.empty() && truth.bag) o.truth_wedge = {-80.0, 12.0};
+  o.legs.input = o.input;
+  if (folder && !o.detections.empty())
+    throw Error(
+        "eval-tracking: --detections pairs tracked persons with frames by stamp, and the "
+        "frame files of a simulated folder carry none: run without --detections");
+  const PersonsPerFrame tracked = o.detections.empty()
+                                      ? run_tracker(o, truth)
+                                      : read_person_tracks_csv(o.detections, truth.stamps_s);
+
+  people::ClearMotScorer scorer(
+      {.gate_m = o.gate_m, .count_track_side_switches = !o.paper_switches});
+  std::size_t annotated = 0, tracked_all = 0, scans_with_truth = 0;
+  for (std::size_t f = 0; f < truth.persons.size(); ++f) {
+    annotated += truth.persons[f].size();
+    tracked_all += tracked[f].size();
+    const auto gt = in_wedge(truth.persons[f], o.truth_wedge);
+    scans_with_truth += !gt.empty();
+    scorer.add_frame(gt, in_wedge(tracked[f], o.truth_wedge));
+  }
+  const auto& c = scorer.totals();
+  const std::string wedge =
+      o.truth_wedge.size() == 2
+          ? fmt::format("bearings {}..{} deg", o.truth_wedge[0], o.truth_wedge[1])
+          : std::string("all bearings");
+  if (o.json) {
+    nlohmann::json j = {{"input", o.input},
+                        {"tracks_from", o.detections.empty() ? "legs pipeline" : o.detections},
+                        {"gate_m", o.gate_m},
+                        {"frames", c.frames},
+                        {"frames_with_truth", scans_with_truth},
+                        {"annotated_persons", annotated},
+                        {"truth_scored", c.truth},
+                        {"tracked_persons", tracked_all},
+                        {"tracked_scored", c.tracked},
+                        {"matches", c.matches},
+                        {"misses", c.misses},
+                        {"false_positives", c.false_positives},
+                        {"false_positives_per_frame", c.false_positives_per_frame()},
+                        {"id_switches", c.id_switches},
+                        {"mota", c.mota()},
+                        {"recall", c.truth ? nlohmann::json(c.recall()) : nlohmann::json()},
+                        {"motp_m", c.matches ? nlohmann::json(c.motp_m()) : nlohmann::json()}};
+    j["truth_wedge_deg"] =
+        o.truth_wedge.size() == 2 ? nlohmann::json(o.truth_wedge) : nlohmann::json();
+    std::printf("%s\n", j.dump(2).c_str());
+    return;
+  }
+  fmt::print(
+      "eval-tracking: {} frames, {} annotated persons ({} scored, {}, in {} frames), {} "
+      "tracked persons ({} scored), gate {:.2f} m\n",
+      c.frames, annotated, c.truth, wedge, scans_with_truth, tracked_all, c.tracked, o.gate_m);
+  fmt::print(
+      "CLEAR MOT: MOTA {:.4f}, MOTP {} (matches {}, misses {}, false positives {}, id "
+      "switches {})\n",
+      c.mota(), c.matches ? fmt::format("{:.4f} m", c.motp_m()) : std::string("n/a"), c.matches,
+      c.misses, c.false_positives, c.id_switches);
+  fmt::print(
+      "person recall {} ({} of {} annotated persons reported), {:.4f} false persons per "
+      "frame\n",
+      c.truth ? fmt::format("{:.4f}", c.recall()) : std::string("n/a"), c.matches, c.truth,
+      c.false_positives_per_frame());
+}
+
+}  // namespace
+
+void add_eval_tracking_command(CLI::App& app) {
+  auto o = std::make_shared<EvalTrackingOptions>();
+  auto* cmd = app.add_subcommand(
+      "eval-tracking",
+      "CLEAR MOT (MOTA, MOTP, misses, false positives, id switches) and person recall of tracked "
+      "persons against annotated ones");
+  cmd->add_option("input", o->input,
+                  "ROS1 bag with leg_tracker/Person annotations, or a folder written by "
+                  "`fieldlidar simulate` (people.csv)")
+      ->required();
+  cmd->add_option("--topic", o->topic, "Bag topic of the scans (default: the only scan topic)");
+  cmd->add_option("--truth", o->truth_topic, "Bag topic of the leg_tracker/Person annotations")
+      ->capture_default_str();
+  cmd->add_option("--detections", o->detections,
+                  "Tracked persons from a `fieldlidar legs --out` CSV instead of running the "
+                  "legs pipeline on INPUT");
+  cmd->add_option("--truth-wedge", o->truth_wedge,
+                  "Score only annotated and tracked persons at bearings BEARING_MIN..BEARING_MAX "
+                  "(deg, 0 = x forward, counter-clockwise positive); default for bags: -80 12, "
+                  "the leg_tracker benchmark's")
+      ->expected(2)
+      ->check([](const std::string& v) {
+        try {
+          return std::isfinite(std::stod(v)) ? std::string() : "must be finite";
+        } catch (...) {
+          return std::string("must be a number");
+        }
+      });
+  cmd->add_option("--truth-min-points", o->truth_min_points,
+                  "Simulated folder: score only persons hit by at least this many returns "
+                  "(people.csv `points`)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--gate", o->gate_m, "Match distance: strictly closer matches (m)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--paper-switches", o->paper_switches,
+                "Count only the CLEAR MOT paper's id switches (an annotated person whose track "
+                "changed), not also a track that moved to another person as the benchmark does");
+  cmd->add_flag("--json", o->json, "Print machine-readable JSON");
+  cmd->add_option("--config", o->legs.config, "Leg detector YAML (as for `fieldlidar legs`)");
+  cmd->add_option("--sensor", o->legs.sensor, "Sensor preset for 3D input without metadata");
+  cmd->add_flag("--still", o->legs.still, "2D: the sensor does not move");
+  cmd->add_flag("--no-classifier", o->legs.no_classifier, "2D: shape tests only");
+  cmd->add_flag("--seed-only", o->legs.seed_only, "Only the seed's tests");
+  cmd->callback([o] { run_eval_tracking(*o); });
+}
+
+}  // namespace fieldlidar::app

@@ -1,0 +1,112 @@
+#include "support/legs_runner.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/people/leg_training.hpp"
+#include "support/shipped_data.hpp"
+
+namespace fieldlidar::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The shipped 2D config (with its learned classifier): legs_2d.yaml of shipped_config_dirs().
+/// Missing, it is an error naming the folders searched (leg recall drops a lot without the
+/// classifier), unless --no-classifier or --seed-only ask for the shape tests only.
+std::string default_2d_config(bool no_classifier, std::string& missing) {
+  if (const auto p = find_shipped_config("legs_2d.yaml")) return p->string();
+  if (no_classifier) return {};
+  std::string searched;
+  for (const auto& d : shipped_config_dirs())
+    searched += (searched.empty() ? "" : ", ") + d.string();
+  missing = "the shipped leg classifier config legs_2d.yaml is not in " +
+            (searched.empty() ? std::string("any known folder") : searched) +
+            " (a broken install?): give --config FILE, or --no-classifier to detect legs by "
+            "their shape only";
+  return {};
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  if (!in) throw Error(p.string() + ": cannot be read");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+LegsRunner::LegsRunner(const LegsRunOptions& o)
+    : options_(o), legs_(people::default_2d_legs()), tracker_([] {
+        people::TrackerConfig tc;
+        tc.gate_max_m = 0.8;
+        return tc;
+      }()) {
+  config_path_ = o.config.empty()
+                     ? default_2d_config(o.no_classifier || o.seed_only, missing_config_)
+                     : o.config;
+  if (!config_path_.empty()) {
+    legs_ = people::legs_config_from_yaml(read_text(config_path_), config_path_, legs_);
+    if (o.no_classifier) legs_.classifier_file.clear();
+    if (!legs_.classifier_file.empty()) {
+      // The learned classifier lives next to the config (legs-train writes both).
+      fs::path model(legs_.classifier_file);
+      if (model.is_relative()) model = fs::path(config_path_).parent_path() / model;
+      legs_.classifier = std::make_shared<const people::LegClassifier>(
+          people::leg_classifier_from_yaml(read_text(model), model.string()));
+      classifier_path_ = model.string();
+    }
+  }
+  if (o.seed_only) legs_ = people::seed_only(legs_);
+  people::LegPipeline2DConfig pipeline_config;
+  pipeline_config.detector = legs_;
+  pipeline_config.estimate_ego_motion = !o.still;
+  pipeline_ = std::make_unique<people::LegPipeline2D>(pipeline_config);
+}
+
+FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSource& source) {
+  FrameLegsPeople out;
+  if (frame.cloud.ring_count() <= 1) {
+    // A 2D scan is one ring: points in beam order. Persons are the pipeline's tracked people.
+    if (!missing_config_.empty()) throw Error(missing_config_);
+    scans_2d_ = true;
+    const auto det = pipeline_->process(frame.stamp_s, people::scan_points_2d(frame.cloud));
+    for (const auto& l : det.legs) out.legs.push_back(l.position_m);
+    for (const auto& p : det.people) {
+      out.persons.push_back(p.position_m);
+      out.person_ids.push_back(p.track);
+    }
+    return out;
+  }
+  if (!sensor_) {
+    sensor_ = source.sensor();
+    if (!sensor_ && !options_.sensor.empty()) sensor_ = SensorModel::preset(options_.sensor);
+    if (!sensor_)
+      throw Error(options_.input + ": 3D frames of an unknown sensor: give --sensor (e.g. vlp16)");
+  }
+  follow_cfg_.legs = options_.config.empty() ? follow::FollowConfig::default_3d_legs() : legs_;
+  const auto per = follow::perceive(frame.cloud, *sensor_, Pose::Identity(), follow_cfg_);
+  out.legs = per.legs_m;
+  // Tracking in the sensor frame (the sensor is assumed still); confirmed tracks only.
+  const auto upd = tracker_.update(frame.stamp_s, per.people_m);
+  for (std::size_t i = 0; i < per.people_m.size(); ++i) {
+    const auto id = upd.track_of_detection[i];
+    const auto* t = id >= 0 ? tracker_.find(std::uint32_t(id)) : nullptr;
+    if (!t || !t->confirmed) continue;
+    out.persons.push_back(per.people_m[i]);
+    out.person_ids.push_back(id);
+  }
+  return out;
+}
+
+std::string LegsRunner::detector_summary() const {
+  return "2D detector " + (config_path_.empty() ? std::string("defaults") : config_path_) +
+         ", classifier " +
+         (classifier_path_.empty() ? std::string("none (shape tests only)") : classifier_path_);
+}
+
+}  // namespace fieldlidar::app

@@ -1,0 +1,63 @@
+#pragma once
+// Legs and tracked persons frame by frame, as `fieldlidar legs` finds them: 2D scans through
+// people::LegPipeline2D (the shipped config and its learned classifier by default), 3D sweeps
+// through the follow pipeline's perception and a PersonTracker in the sensor frame. Shared by
+// the commands that run the detector (legs, eval-tracking).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/follow/pipeline.hpp"
+#include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/people/legs_2d_pipeline.hpp"
+#include "fieldlidar/people/tracker.hpp"
+
+namespace fieldlidar::app {
+
+struct LegsRunOptions {
+  std::string input;   ///< named in errors
+  std::string config;  ///< leg detector YAML; "" = the shipped legs_2d.yaml for 2D scans
+  std::string sensor;  ///< sensor preset for 3D input without sensor metadata
+  bool seed_only = false;
+  bool still = false;  ///< 2D: no ego-motion estimation by scan matching
+  bool no_classifier = false;
+};
+
+/// One frame's legs and reported persons (sensor frame, m) with the persons' track ids.
+struct FrameLegsPeople {
+  std::vector<Eigen::Vector2d> legs;
+  std::vector<Eigen::Vector2d> persons;
+  std::vector<std::int64_t> person_ids;
+};
+
+class LegsRunner {
+ public:
+  /// Loads the detector config (and its classifier); throws fieldlidar::Error when a file is
+  /// missing or malformed.
+  explicit LegsRunner(const LegsRunOptions& options);
+  /// One frame of `source` (which gives the sensor model of 3D frames).
+  FrameLegsPeople process(const io::Frame& frame, const io::FrameSource& source);
+  /// True once a 2D scan was processed.
+  bool scans_2d() const { return scans_2d_; }
+  /// "2D detector <config>, classifier <file>" for the report.
+  std::string detector_summary() const;
+
+ private:
+  LegsRunOptions options_;
+  people::LegDetectorConfig legs_;
+  std::string missing_config_;  ///< the 2D default config that was not found
+  std::string config_path_, classifier_path_;
+  std::unique_ptr<people::LegPipeline2D> pipeline_;
+  people::PersonTracker tracker_;
+  follow::FollowConfig follow_cfg_;
+  std::optional<SensorModel> sensor_;
+  bool scans_2d_ = false;
+};
+
+}  // namespace fieldlidar::app

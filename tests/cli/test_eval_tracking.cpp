@@ -1,0 +1,145 @@
+// fieldlidar eval-tracking end to end: CLEAR MOT of the legs pipeline on the leg_tracker
+// benchmark bag (annotations paired with scans by bag order, the benchmark's bearing wedge), the
+// same figures from a `legs --out` CSV, a simulated folder's people.csv, and its refusals.
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_cli.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kBag = "legs_2d_tracking/general_tracking_moving_1.bag";
+
+/// Runs `fieldlidar eval-tracking ARGS --json` and parses what it printed.
+nlohmann::json eval_json(const std::string& args) {
+  const auto r = test::run_cli("eval-tracking " + args + " --json");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  if (r.exit_code != 0) return {};
+  return nlohmann::json::parse(r.output);
+}
+
+TEST(CliEvalTracking, BenchmarkBagScoresItsWedgeWithTheLegsPipeline) {
+  FIELDLIDAR_REQUIRE_DATA(kBag);
+  const auto bag = test::quoted(test::data_file(kBag));
+  const auto j = eval_json(bag);
+  ASSERT_FALSE(j.is_null());
+  // 873 scans; 153 leg_tracker/Person annotations, 133 of them at bearings -80..12 deg (the
+  // benchmark's scorer counts those), in 109 scans.
+  EXPECT_EQ(j["frames"], 873);
+  EXPECT_EQ(j["annotated_persons"], 153);
+  EXPECT_EQ(j["truth_scored"], 133);
+  EXPECT_EQ(j["frames_with_truth"], 109);
+  EXPECT_EQ(j["truth_wedge_deg"], nlohmann::json({-80.0, 12.0}));
+  EXPECT_EQ(j["gate_m"], 0.75);
+  const int truth = j["truth_scored"], matches = j["matches"], misses = j["misses"];
+  const int fp = j["false_positives"], ids = j["id_switches"];
+  EXPECT_EQ(matches + misses, truth);
+  EXPECT_NEAR(double(j["mota"]), 1.0 - double(misses + fp + ids) / truth, 1e-12);
+  // The tracker measured when this command was added: no person in the wedge (MOTA 0, recall 0,
+  // no false person). Bounds that catch a regression; the targets (MOTA >= 0.40, recall
+  // >= 0.60, <= 0.05 false persons per scan, <= 5 id switches) are the tracker's to reach.
+  EXPECT_GE(double(j["mota"]), 0.0);
+  EXPECT_LE(double(j["false_positives_per_frame"]), 0.05);
+  EXPECT_LE(ids, 5);
+
+  // Every bearing: all 153 annotations scored.
+  const auto all = eval_json(bag + " --truth-wedge -180 180");
+  ASSERT_FALSE(all.is_null());
+  EXPECT_EQ(all["truth_scored"], 153);
+  EXPECT_EQ(all["frames_with_truth"], 123);
+}
+
+TEST(CliEvalTracking, DetectionsCsvOfLegsGivesTheSameFigures) {
+  FIELDLIDAR_REQUIRE_DATA(kBag);
+  const auto dir = test::temp_dir("eval_tracking_csv");
+  const auto bag = test::quoted(test::data_file(kBag));
+  const auto csv = dir / "legs.csv";
+  const auto legs = test::run_cli("legs " + bag + " --force --out " + test::quoted(csv));
+  ASSERT_EQ(legs.exit_code, 0) << legs.output;
+  for (const char* wedge : {"", " --truth-wedge -180 180"}) {
+    const auto run = eval_json(bag + wedge);
+    const auto read = eval_json(bag + wedge + " --detections " + test::quoted(csv));
+    ASSERT_FALSE(run.is_null());
+    ASSERT_FALSE(read.is_null());
+    for (const char* k : {"tracked_persons", "tracked_scored", "matches", "misses",
+                          "false_positives", "id_switches", "mota"})
+      EXPECT_EQ(run[k], read[k]) << k << wedge;
+  }
+  // A row whose stamp is no scan's: an error naming the file and line.
+  std::ofstream(dir / "bad.csv") << "stamp,kind,x,y,track_id\n12.5,person,1,0,3\n";
+  const auto bad =
+      test::run_cli("eval-tracking " + bag + " --detections " + test::quoted(dir / "bad.csv"));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("bad.csv:2"), std::string::npos) << bad.output;
+}
+
+TEST(CliEvalTracking, SimulatedFolderScoresPeopleCsvInTheLidarFrame) {
+  const auto dir = test::temp_dir("eval_tracking_sim");
+  const auto sim = test::run_cli("simulate --scene lawn --frames 20 --seed 0 --force --out " +
+                                 test::quoted(dir));
+  ASSERT_EQ(sim.exit_code, 0) << sim.output;
+  const auto j = eval_json(test::quoted(dir));
+  ASSERT_FALSE(j.is_null());
+  // The operator walking ahead of the mower, one person per frame, all bearings scored. When
+  // written: 18 of 20 found (the first two frames confirm the track), MOTP 0.068 m, no id switch,
+  // no false person.
+  EXPECT_EQ(j["frames"], 20);
+  EXPECT_EQ(j["truth_scored"], 20);
+  EXPECT_TRUE(j["truth_wedge_deg"].is_null());
+  EXPECT_GE(double(j["recall"]), 0.85);
+  EXPECT_GE(double(j["mota"]), 0.85);
+  EXPECT_LT(double(j["motp_m"]), 0.15);  // a wrong world -> lidar transform would be metres off
+  EXPECT_EQ(j["id_switches"], 0);
+  // The operator is hit by ~250-340 returns per sweep: all of them pass 100, none 100000.
+  const auto seen = eval_json(test::quoted(dir) + " --truth-min-points 100");
+  ASSERT_FALSE(seen.is_null());
+  EXPECT_EQ(seen["truth_scored"], 20);
+  const auto none = eval_json(test::quoted(dir) + " --truth-min-points 100000");
+  ASSERT_FALSE(none.is_null());
+  EXPECT_EQ(none["truth_scored"], 0);
+  EXPECT_EQ(none["false_positives"], j["tracked_persons"]);
+
+  // Its frame files carry no stamps, so a detections CSV cannot be paired with them.
+  std::ofstream(dir / "det.csv") << "stamp,kind,x,y,track_id\n";
+  const auto r = test::run_cli("eval-tracking " + test::quoted(dir) + " --detections " +
+                               test::quoted(dir / "det.csv"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--detections"), std::string::npos) << r.output;
+
+  // A folder that no simulation wrote: said so.
+  const auto empty = test::temp_dir("eval_tracking_empty");
+  const auto e = test::run_cli("eval-tracking " + test::quoted(empty));
+  EXPECT_EQ(e.exit_code, 1);
+  EXPECT_NE(e.output.find("not a folder written by `fieldlidar simulate`"), std::string::npos)
+      << e.output;
+}
+
+TEST(CliEvalTracking, WrongAnnotationTopicIsAnErrorListingTheTopics) {
+  FIELDLIDAR_REQUIRE_DATA(kBag);
+  const auto bag = test::quoted(test::data_file(kBag));
+  auto r = test::run_cli("eval-tracking " + bag + " --truth /odom");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("not leg_tracker/Person"), std::string::npos) << r.output;
+  r = test::run_cli("eval-tracking " + bag + " --truth /people");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("/ground_truth_people_tracks [leg_tracker/Person, 153]"),
+            std::string::npos)
+      << r.output;
+  r = test::run_cli("eval-tracking " + bag + " --gate 0");
+  EXPECT_NE(r.exit_code, 0);
+  r = test::run_cli("eval-tracking " + bag + " --truth-wedge 12 -80");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("must be below"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace fieldlidar
