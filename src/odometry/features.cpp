@@ -106,22 +106,29 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
     };
     for (int s = 0; s < config.sectors; ++s) {
       const int b = m * s / config.sectors, e = m * (s + 1) / config.sectors;
+      // Edges: the candidates with c >= C, strongest first.
       order.clear();
       for (int k = b; k < e; ++k)
-        if (c[k] >= 0) order.push_back(k);
+        if (c[k] >= C) order.push_back(k);
       std::sort(order.begin(), order.end(), [&](int a, int b2) { return c[a] > c[b2]; });
       int taken = 0;
       for (int k : order) {
-        if (c[k] < C || taken >= config.edges_per_sector) break;
+        if (taken >= config.edges_per_sector) break;
         if (picked[k] || (!plane_only.empty() && plane_only[idx[k]])) continue;
         (c[k] >= (1 + C) / 2 ? strong_e : weak_e).push_back(cloud.points[idx[k]].xyz());
         suppress(k);
         ++taken;
       }
+      // Planes: the smallest c first; only the head of the order is needed.
+      order.clear();
+      for (int k = b; k < e; ++k)
+        if (c[k] >= 0 && c[k] < C) order.push_back(k);
+      const auto head = std::min<std::size_t>(order.size(), 8 * config.planes_per_sector);
+      std::partial_sort(order.begin(), order.begin() + head, order.end(),
+                        [&](int a, int b2) { return c[a] < c[b2]; });
       taken = 0;
-      for (auto it = order.rbegin(); it != order.rend(); ++it) {
-        const int k = *it;
-        if (c[k] >= C || taken >= config.planes_per_sector) break;
+      for (std::size_t h = 0; h < head && taken < config.planes_per_sector; ++h) {
+        const int k = order[h];
         if (picked[k]) continue;
         (c[k] < C / 2 ? strong_p : weak_p).push_back(cloud.points[idx[k]].xyz());
         suppress(k);

@@ -43,17 +43,20 @@ void VoxelMap::crop(const Eigen::Vector3d& centre_world) {
 
 std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
                               std::vector<Eigen::Vector3f>& out) const {
-  // The k nearest among the 27 voxels around the query (enough for max_neighbour_distance_m up to
-  // the voxel side), by insertion into a short sorted list.
+  // The k nearest among the 8 voxels nearest the query, by insertion into a short sorted list.
   const int k = std::clamp(config_.neighbours, 1, 16);
   const float max2 = float(config_.max_neighbour_distance_m * config_.max_neighbour_distance_m);
   std::array<std::pair<float, Eigen::Vector3f>, 16> best;
   int n = 0;
   const Key c = key_of(query);
-  for (int dx = -1; dx <= 1; ++dx)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dz = -1; dz <= 1; ++dz) {
-        const auto it = voxels_.find({c.x + dx, c.y + dy, c.z + dz});
+  const float inv = float(1.0 / config_.voxel_m);
+  const int sx = query.x() * inv - float(c.x) < 0.5f ? -1 : 1;
+  const int sy = query.y() * inv - float(c.y) < 0.5f ? -1 : 1;
+  const int sz = query.z() * inv - float(c.z) < 0.5f ? -1 : 1;
+  for (int dx = 0; dx <= 1; ++dx)
+    for (int dy = 0; dy <= 1; ++dy)
+      for (int dz = 0; dz <= 1; ++dz) {
+        const auto it = voxels_.find({c.x + dx * sx, c.y + dy * sy, c.z + dz * sz});
         if (it == voxels_.end()) continue;
         for (const auto& p : it->second) {
           const float d2 = (p - query).squaredNorm();
@@ -140,6 +143,7 @@ std::optional<Correspondence> LocalMap::match_plane(const Eigen::Vector3f& point
   if (planes_.nearest(point_world, scratch) < std::size_t(config_.neighbours))
     return std::nullopt;
   const Fit f = fit(scratch);
+  if (f.values(1) < config_.min_plane_spread * f.values(2)) return std::nullopt;
   const Eigen::Vector3d n = f.vectors.col(0);
   for (const auto& p : scratch)
     if (std::abs(n.dot(p.cast<double>() - f.mean)) > config_.max_plane_distance_m)
