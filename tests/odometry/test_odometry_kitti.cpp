@@ -102,5 +102,23 @@ TEST(OdometryKitti, DISABLED_Report) {
   }
 }
 
+TEST(OdometryKitti, AllFramesAgainstOrbSlam3) {
+  if (kitti().frames.empty()) GTEST_SKIP() << "kitti_tracking0000 not found";
+  const auto e = run_kitti(0, 50, 1, kitti_config());
+  report("kitti_tracking0000", e);
+  EXPECT_LT(e.rpe_t_m, 0.018);
+  EXPECT_LT(e.rpe_r_deg, 0.053);
+  EXPECT_LT(e.ate_m, 0.16);
+  EXPECT_GT(e.path_m, 17.0);
+}
+
+TEST(OdometryKitti, EveryThirdFrameDoesNotDiverge) {
+  if (kitti().frames.empty()) GTEST_SKIP() << "kitti_tracking0000 not found";
+  const auto e = run_kitti(0, 50, 3, kitti_config());
+  report("kitti_tracking0000 every 3rd", e);
+  EXPECT_LT(e.rpe_t_m, 0.06);
+  EXPECT_LT(e.ate_m, 0.25);
+}
+
 }  // namespace
 }  // namespace fieldlidar::odometry::test
