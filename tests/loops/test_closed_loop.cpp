@@ -13,16 +13,28 @@ namespace {
 ClosedLoopResult run(Scenario s) {
   const auto scene = sim::make_lawn_scene(lawn_config(s), 0);
   ClosedLoopConfig cfg;
+  // The default pose source is the odometry; FIELDLIDAR_FOLLOW_POSE_SOURCE=truth compares.
+  if (const char* src = std::getenv("FIELDLIDAR_FOLLOW_POSE_SOURCE"))
+    if (auto p = pose_source_from_string(src)) cfg.pose_source = *p;
   auto r = run_closed_loop(scene, SensorModel::vlp16(), cfg);
   std::printf(
-      "%s: frames %zu following %zu stopped_by_command %d duration %.1f s boundary mean %.3f m "
-      "hausdorff %.3f m vertices %zu self-x %zu too_close_moving %zu switches %zu off %zu "
-      "occlusions %zu stop_delay %d resume_delay %d perception %.2f ms\n",
-      to_string(s).c_str(), r.rows.size(), r.frames_following, int(r.stopped_by_command),
-      r.duration_s, r.boundary_error.mean_m, r.boundary_error.hausdorff_m,
-      r.boundary.vertices.size(), r.boundary.self_intersections.size(), r.frames_moving_too_close,
-      r.target_switches, r.frames_target_off, r.occlusions, r.max_stop_delay_frames,
-      r.max_resume_delay_frames, r.mean_perception_ms);
+      "%s (%s poses): frames %zu following %zu stopped_by_command %d duration %.1f s boundary "
+      "mean %.3f m hausdorff %.3f m vertices %zu self-x %zu too_close_moving %zu switches %zu off "
+      "%zu occlusions %zu stop_delay %d resume_delay %d perception %.2f ms odometry %.2f ms\n",
+      to_string(s).c_str(), to_string(r.pose_source).c_str(), r.rows.size(), r.frames_following,
+      int(r.stopped_by_command), r.duration_s, r.boundary_error.mean_m,
+      r.boundary_error.hausdorff_m, r.boundary.vertices.size(),
+      r.boundary.self_intersections.size(), r.frames_moving_too_close, r.target_switches,
+      r.frames_target_off, r.occlusions, r.max_stop_delay_frames, r.max_resume_delay_frames,
+      r.mean_perception_ms, r.mean_odometry_ms);
+  if (const auto& a = r.odometry_accuracy)
+    std::printf(
+        "%s odometry: ATE %.3f m (SE3-aligned %.3f m, max %.3f m), RPE %.2f cm / %.3f deg, drift "
+        "%.2f %% %.4f deg/m, path %.1f m (true %.1f m), unregistered %zu degenerate %zu\n",
+        to_string(s).c_str(), a->ate_unaligned.translation_m.rmse, a->ate_se3.translation_m.rmse,
+        a->ate_unaligned.translation_m.max, 100 * a->rpe.translation_m.mean,
+        a->rpe.rotation_deg.mean, a->drift.translation_pct, a->drift.rotation_deg_per_m,
+        a->estimate_path_m, a->reference_path_m, r.odometry_unregistered, r.odometry_degenerate);
   if (const char* dir = std::getenv("FIELDLIDAR_FOLLOW_DUMP")) {
     if (FILE* f = std::fopen((std::string(dir) + "/" + to_string(s) + ".csv").c_str(), "w")) {
       std::fputs(log_csv(r.rows).c_str(), f);
