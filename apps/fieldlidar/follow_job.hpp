@@ -17,6 +17,7 @@ struct FollowOptions {
   double max_time_s = 0;
   double safe_distance_m = -1;
   double max_distance_m = -1;
+  std::string pose_source = "odometry";  ///< odometry or truth
 };
 
 /// Runs the simulated closed loop and writes boundary.geojson, boundary.csv, follow_log.csv,

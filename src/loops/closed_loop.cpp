@@ -113,7 +113,7 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
     const auto frame = lidar.scan(t0, pose_at);
     const Pose T0 = pose_at(t0);
     // The command computed from this sweep applies from its end on.
-    mower = segment.at(t0 + period);
+    mower = follow::predict_pose(mower, v, dv, b, period);
 
     // The pose the pipeline works with: the lidar at the sweep start and the mower at its end.
     Pose T0_used = T0;
@@ -143,7 +143,7 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
       const MowerSegment relative{{}, t0, v, dv, b};
       cloud = deskew(
           frame.cloud, [&](double t) { return flat_pose(relative.at(t)); }, t0, Pose::Identity());
-      mower_used = MowerSegment{planar(T0_used), t0, v, dv, b}.at(t0 + period);
+      mower_used = follow::predict_pose(planar(T0_used), v, dv, b, period);
     }
     previous = segment;
     res.lidar_poses_used.push_back(T0_used);

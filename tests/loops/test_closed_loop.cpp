@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "fieldlidar/loops/closed_loop.hpp"
 
@@ -40,10 +41,15 @@ ClosedLoopResult run(Scenario s) {
       std::fputs(log_csv(r.rows).c_str(), f);
       std::fclose(f);
     }
-    if (FILE* f = std::fopen((std::string(dir) + "/" + to_string(s) + "_trail.csv").c_str(), "w")) {
-      for (const auto& p : r.trail) std::fprintf(f, "%.3f,%.3f\n", p.x(), p.y());
-      std::fclose(f);
-    }
+    const auto dump = [&](const char* name, const std::vector<Eigen::Vector2d>& pts) {
+      if (FILE* f = std::fopen((std::string(dir) + "/" + to_string(s) + name).c_str(), "w")) {
+        for (const auto& p : pts) std::fprintf(f, "%.3f,%.3f\n", p.x(), p.y());
+        std::fclose(f);
+      }
+    };
+    dump("_trail.csv", r.trail);
+    dump("_boundary.csv", r.boundary.vertices);
+    dump("_operator_loop.csv", r.operator_loop);
   }
   return r;
 }
