@@ -41,8 +41,8 @@ TEST(PoseSource, OdometryFrameIsTheFirstLidarPoseAndTruthIsExpressedInIt) {
   // The operator's loop mapped back into the world is the scene's.
   ASSERT_EQ(odo.operator_loop.size(), truth.operator_loop.size());
   for (std::size_t i = 0; i < odo.operator_loop.size(); ++i) {
-    const Eigen::Vector3d p = odo.T_world_frame * Eigen::Vector3d(odo.operator_loop[i].x(),
-                                                                  odo.operator_loop[i].y(), 0);
+    const Eigen::Vector3d p =
+        odo.T_world_frame * Eigen::Vector3d(odo.operator_loop[i].x(), odo.operator_loop[i].y(), 0);
     EXPECT_NEAR(p.x(), truth.operator_loop[i].x(), 1e-9);
     EXPECT_NEAR(p.y(), truth.operator_loop[i].y(), 1e-9);
   }
