@@ -92,7 +92,7 @@ LidarOdometry::Prior LidarOdometry::predict(double stamp_s, std::vector<std::str
                                     config_.deskew)) {
     prior.sweep = std::move(sweep->motion);
     if (!initialised_) prior.source = sweep->source;
-  } else {
+  } else if (config_.deskew.constant_velocity) {
     prior.sweep = SweepMotion::constant_velocity(scale_motion(T_last_delta_, period / last_period),
                                                  period);
   }

@@ -3,6 +3,7 @@
 // RPE per frame, drift over segments) computed here, independent of the code under test.
 
 #include <cmath>
+#include <cstdlib>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -122,6 +123,35 @@ inline std::vector<Pose> run(const SimSequence& s, OdometryConfig cfg, bool moti
     if (results) results->push_back(std::move(r));
   }
   return est;
+}
+
+/// Tuning knobs of the report runs, from the environment.
+inline void apply_env(OdometryConfig& c) {
+  auto num = [](const char* name, double& v) {
+    if (const char* s = std::getenv(name)) v = std::atof(s);
+  };
+  auto integer = [](const char* name, int& v) {
+    if (const char* s = std::getenv(name)) v = std::atoi(s);
+  };
+  num("THICK", c.map.max_plane_thickness_m);
+  integer("VOXPTS", c.map.max_points_per_voxel);
+  num("VOXM", c.map.voxel_m);
+  num("SPACING", c.map.min_point_spacing_m);
+  integer("LMIT", c.lm.max_iterations);
+  integer("ROUNDS", c.max_associations);
+  num("CONV", c.convergence_m);
+  num("SPREAD", c.map.min_plane_spread);
+  num("CURV", c.features.curvature_threshold);
+  integer("NEDGE", c.features.edges_per_sector);
+  integer("NPLANE", c.features.planes_per_sector);
+  integer("STRIDE", c.features.map_plane_stride);
+  num("ROBUST", c.lm.robust_scale_m);
+  num("DEGEN", c.lm.degenerate_eigenvalue);
+  if (std::getenv("NODESKEW")) c.deskew.enabled = false;
+  if (std::getenv("CVDESKEW")) c.deskew.constant_velocity = true;
+  if (std::getenv("GROUND")) c.preprocess.split_ground = true;
+  if (std::getenv("CLUSTERS")) c.preprocess.drop_small_clusters = true;
+  if (std::getenv("ROBUSTGROUND")) c.preprocess.ground.method = segmentation::GroundMethod::kRobust;
 }
 
 inline std::vector<Pose> relative_to_first(const std::vector<Pose>& poses) {

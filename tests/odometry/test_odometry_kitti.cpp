@@ -62,6 +62,7 @@ const KittiData& kitti() {
 
 OdometryConfig kitti_config() {
   OdometryConfig cfg;
+  apply_env(cfg);
   return cfg;
 }
 
@@ -94,6 +95,7 @@ TEST(OdometryKitti, DISABLED_Report) {
   report("frames 25-49 (test)", run_kitti(25, 50, 1, kitti_config()));
   report("frames 0-49", run_kitti(0, 50, 1, kitti_config(), false, &ms));
   std::printf("  %.1f ms per frame\n", ms);
+  if (std::getenv("ONLYDEF")) return;
   report("frames 0-49, ATE with scale", run_kitti(0, 50, 1, kitti_config(), true));
   for (int step : {2, 3, 5}) {
     char what[64];

@@ -30,6 +30,9 @@ struct LocalMapConfig {
   /// Second / largest eigenvalue of a plane fit at least this: points along one scan line fit
   /// any plane through it and would bias the pose.
   double min_plane_spread = 0.25;
+  /// RMS distance of the fit points from their plane at most this (m): leaves and clutter are
+  /// not planes (0 = off).
+  double max_plane_thickness_m = 0.0;
 };
 
 /// Points of one kind (edges or planes) in a voxel hash.
