@@ -139,7 +139,8 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
     for (int k = 0; k < m; ++k) {
       if (c[k] < 0) continue;
       const bool edge = c[k] >= C && (plane_only.empty() || !plane_only[idx[k]]);
-      if (edge) f.edge_candidates.push_back(cloud.points[idx[k]].xyz());
+      if (edge)
+        f.edge_candidates.push_back(cloud.points[idx[k]].xyz());
       else if (c[k] < C && (picked[k] || ++stride % config.map_plane_stride == 0))
         f.plane_candidates.push_back(cloud.points[idx[k]].xyz());
     }

@@ -117,9 +117,9 @@ void LidarOdometry::register_features(const Features& features, const Pose& prio
       }
     result.inliers = matches.size();
     if (int(matches.size()) < config_.min_matches) {
-      result.warnings.push_back(fmt::format(
-          "{} feature matches (< {}): too few features, pose from the motion prior",
-          matches.size(), config_.min_matches));
+      result.warnings.push_back(
+          fmt::format("{} feature matches (< {}): too few features, pose from the motion prior",
+                      matches.size(), config_.min_matches));
       result.registered = false;
       result.T_world_lidar = prior;
       return;

@@ -140,8 +140,7 @@ std::optional<Correspondence> LocalMap::match_edge(const Eigen::Vector3f& point_
 }
 
 std::optional<Correspondence> LocalMap::match_plane(const Eigen::Vector3f& point_world) const {
-  if (planes_.nearest(point_world, scratch) < std::size_t(config_.neighbours))
-    return std::nullopt;
+  if (planes_.nearest(point_world, scratch) < std::size_t(config_.neighbours)) return std::nullopt;
   const Fit f = fit(scratch);
   if (f.values(1) < config_.min_plane_spread * f.values(2)) return std::nullopt;
   if (config_.max_plane_thickness_m > 0 &&

@@ -55,10 +55,10 @@ inline SimSequence simulate_sequence(sim::SceneKind kind, int first, int frames,
 }
 
 struct TrajectoryErrors {
-  double ate_m = 0;         ///< RMSE after rigid alignment
-  double rpe_t_m = 0;       ///< RMS per-frame translation error
-  double rpe_r_deg = 0;     ///< RMS per-frame rotation error
-  double drift_pct = 0;     ///< mean translation error / length over segments
+  double ate_m = 0;      ///< RMSE after rigid alignment
+  double rpe_t_m = 0;    ///< RMS per-frame translation error
+  double rpe_r_deg = 0;  ///< RMS per-frame rotation error
+  double drift_pct = 0;  ///< mean translation error / length over segments
   double path_m = 0;
 };
 
@@ -67,8 +67,9 @@ inline double angle_deg(const Eigen::Matrix3d& R) {
 }
 
 /// est and ref: poses of the same frames; segments of `segment_m` for the drift.
-inline TrajectoryErrors trajectory_errors(const std::vector<Pose>& est, const std::vector<Pose>& ref,
-                                          double segment_m, bool with_scale = false) {
+inline TrajectoryErrors trajectory_errors(const std::vector<Pose>& est,
+                                          const std::vector<Pose>& ref, double segment_m,
+                                          bool with_scale = false) {
   TrajectoryErrors e;
   const std::size_t n = std::min(est.size(), ref.size());
   Eigen::Matrix3Xd A(3, n), B(3, n);
@@ -79,7 +80,8 @@ inline TrajectoryErrors trajectory_errors(const std::vector<Pose>& est, const st
   const Eigen::Matrix4d T = Eigen::umeyama(A, B, with_scale);
   double se = 0;
   for (std::size_t i = 0; i < n; ++i)
-    se += ((T.topLeftCorner<3, 3>() * A.col(i) + T.topRightCorner<3, 1>()) - B.col(i)).squaredNorm();
+    se +=
+        ((T.topLeftCorner<3, 3>() * A.col(i) + T.topRightCorner<3, 1>()) - B.col(i)).squaredNorm();
   e.ate_m = std::sqrt(se / n);
   double st = 0, sr = 0;
   std::vector<double> dist(n, 0.0);

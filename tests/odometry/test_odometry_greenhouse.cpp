@@ -42,17 +42,19 @@ TEST(OdometryGreenhouse, DISABLED_Report) {
     degenerate += r.degenerate, it += r.iterations, inl += r.inliers;
   }
   const double n = double(res.size());
-  std::printf("  ms/frame total %.2f (deskew %.2f pre %.2f feat %.2f match %.2f map %.2f), "
-              "%.1f LM steps, %.0f matches, %d degenerate frames\n",
-              t.total_ms / n, t.deskew_ms / n, t.preprocess_ms / n, t.features_ms / n,
-              t.match_ms / n, t.map_ms / n, it / n, inl / n, degenerate);
+  std::printf(
+      "  ms/frame total %.2f (deskew %.2f pre %.2f feat %.2f match %.2f map %.2f), "
+      "%.1f LM steps, %.0f matches, %d degenerate frames\n",
+      t.total_ms / n, t.deskew_ms / n, t.preprocess_ms / n, t.features_ms / n, t.match_ms / n,
+      t.map_ms / n, it / n, inl / n, degenerate);
   report("default without IMU/wheels", trajectory_errors(run(s, def, false), truth, seg));
   if (std::getenv("ONLYDEF")) return;
   OdometryConfig f2f;
   f2f.target = MatchTarget::kPreviousFrame;
   f2f.preprocess.split_ground = true;
   f2f.preprocess.drop_small_clusters = true;
-  report("seed (frame to frame, ground+clusters)", trajectory_errors(run(s, f2f, true), truth, seg));
+  report("seed (frame to frame, ground+clusters)",
+         trajectory_errors(run(s, f2f, true), truth, seg));
   OdometryConfig gc = def;
   gc.preprocess.split_ground = true;
   gc.preprocess.drop_small_clusters = true;
@@ -63,8 +65,8 @@ TEST(OdometryGreenhouse, DISABLED_Report) {
 TEST(OdometryGreenhouse, ImuWheelsFortyFrames) {
   const auto s = simulate_sequence(sim::SceneKind::kGreenhouse, 0, 40);
   std::vector<OdometryResult> res;
-  const auto e = trajectory_errors(run(s, OdometryConfig{}, true, &res),
-                                   relative_to_first(s.truth), 10.0);
+  const auto e =
+      trajectory_errors(run(s, OdometryConfig{}, true, &res), relative_to_first(s.truth), 10.0);
   report("greenhouse 40 frames", e);
   EXPECT_LT(e.rpe_t_m, 0.010);
   EXPECT_LT(e.rpe_r_deg, 0.15);  // target 0.08: the first registrations are biased
@@ -144,8 +146,8 @@ TEST(OdometryGreenhouse, BadInputDegradesGracefully) {
 
 // Per-frame errors of a run (tuning aid): IMU=1 with the motion streams.
 TEST(OdometryGreenhouse, DISABLED_PerFrame) {
-  const auto s = simulate_sequence(sim::SceneKind::kGreenhouse, 0,
-                                   env_int("FIELDLIDAR_ODOM_FRAMES", 60));
+  const auto s =
+      simulate_sequence(sim::SceneKind::kGreenhouse, 0, env_int("FIELDLIDAR_ODOM_FRAMES", 60));
   const auto truth = relative_to_first(s.truth);
   OdometryConfig cfg;
   apply_env(cfg);
@@ -205,7 +207,8 @@ TEST(OdometryGreenhouse, DISABLED_DeskewResponse) {
         Pose(Eigen::Translation3d(k * delta.translation()) * Eigen::Quaterniond::Identity()), 0.1);
     const PointCloud c = deskew(s.frames[i], point_times(s.frames[i], c2.deskew), motion);
     const auto r = odo.register_frame(c);
-    const Eigen::Vector3d d = truth.linear().transpose() * (r.T_world_lidar.translation() - truth.translation());
+    const Eigen::Vector3d d =
+        truth.linear().transpose() * (r.T_world_lidar.translation() - truth.translation());
     std::printf("deskew x %.3f m: pose error in lidar frame %.4f %.4f %.4f\n",
                 k * delta.translation().x(), d.x(), d.y(), d.z());
   }

@@ -33,9 +33,9 @@ struct OdometryConfig {
   FeatureConfig features;
   LmConfig lm;
   LocalMapConfig map;
-  int max_associations = 8;  ///< rounds of (find correspondences, LM) per sweep
+  int max_associations = 8;     ///< rounds of (find correspondences, LM) per sweep
   double convergence_m = 1e-3;  ///< stop when a round moves the pose less than this (m and rad)
-  int min_matches = 30;  ///< fewer correspondences: the frame is not registered (prior kept)
+  int min_matches = 30;         ///< fewer correspondences: the frame is not registered (prior kept)
   /// Localisation: track in a given map without adding to it.
   bool update_map = true;
   /// A sweep this far (s) after the previous one is a gap: the velocity prior is scaled to it.

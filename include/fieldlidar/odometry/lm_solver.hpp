@@ -20,10 +20,10 @@ struct Correspondence {
 };
 
 struct LmConfig {
-  int max_iterations = 4;          ///< LM steps per set of correspondences
-  double initial_lambda = 1e-4;    ///< damping relative to the normal matrix' diagonal
-  double robust_scale_m = 0.1;     ///< Cauchy (edge, plane) kernel width
-  double min_step = 1e-6;          ///< stop when the update (m, rad) is smaller
+  int max_iterations = 4;        ///< LM steps per set of correspondences
+  double initial_lambda = 1e-4;  ///< damping relative to the normal matrix' diagonal
+  double robust_scale_m = 0.1;   ///< Cauchy (edge, plane) kernel width
+  double min_step = 1e-6;        ///< stop when the update (m, rad) is smaller
   /// Directions whose eigenvalue of the normal matrix, divided by the number of residuals, is below
   /// this are degenerate: the solve keeps the prior there instead of drifting (LOAM's remedy).
   double degenerate_eigenvalue = 0.01;
@@ -35,7 +35,7 @@ struct LmResult {
   bool converged = false;
   double rms_residual_m = 0.0;
   Eigen::Matrix<double, 6, 1> eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();  ///< ascending,
-                                                                                    ///< / count
+                                                                                  ///< / count
   bool degenerate = false;
 };
 
