@@ -142,6 +142,9 @@ inline void apply_env(OdometryConfig& c) {
   integer("LMIT", c.lm.max_iterations);
   integer("ROUNDS", c.max_associations);
   num("CONV", c.convergence_m);
+  num("REASSOC", c.reassociate_m);
+  num("COARSE", c.coarse_voxel_m);
+  num("COARSEFRAC", c.coarse_below_fraction);
   num("SPREAD", c.map.min_plane_spread);
   num("CURV", c.features.curvature_threshold);
   integer("NEDGE", c.features.edges_per_sector);
