@@ -152,6 +152,7 @@ inline void apply_env(OdometryConfig& c) {
   integer("STRIDE", c.features.map_plane_stride);
   num("ROBUST", c.lm.robust_scale_m);
   num("DEGEN", c.lm.degenerate_eigenvalue);
+  if (std::getenv("HOLDDEGEN")) c.lm.hold_degenerate = true;
   if (std::getenv("NODESKEW")) c.deskew.enabled = false;
   if (std::getenv("CVDESKEW")) c.deskew.constant_velocity = true;
   if (std::getenv("GROUND")) c.preprocess.split_ground = true;
