@@ -74,9 +74,12 @@ std::vector<odometry::ImuSample> read_imu(const fs::path& path) {
 std::vector<odometry::WheelSample> read_wheels(const fs::path& path) {
   std::vector<odometry::WheelSample> out;
   for (const auto& r : read_csv(path)) {
-    if (r.size() >= 7) out.push_back({r[0], r[5], r[6]});
-    else if (r.size() == 3) out.push_back({r[0], r[1], r[2]});
-    else throw Error(path.string() + ": a wheel row needs 3 or 10 columns");
+    if (r.size() >= 7)
+      out.push_back({r[0], r[5], r[6]});
+    else if (r.size() == 3)
+      out.push_back({r[0], r[1], r[2]});
+    else
+      throw Error(path.string() + ": a wheel row needs 3 or 10 columns");
   }
   return out;
 }
@@ -92,8 +95,8 @@ void draw_map(const fs::path& path, const PointCloud& map, const Trajectory& pos
   for (const auto& p : poses) path_xy.push_back(p.pose.translation().head<2>());
   canvas.polyline(path_xy, {0.1, 0.2, 0.9}, 2.5);
   canvas.title(fmt::format("odometry: {} frames, {:.1f} m", poses.size(), poses.path_length_m()));
-  canvas.legend({{"edges", {0.8, 0.3, 0.2}}, {"planes", {0.55, 0.6, 0.65}},
-                 {"path", {0.1, 0.2, 0.9}}});
+  canvas.legend(
+      {{"edges", {0.8, 0.3, 0.2}}, {"planes", {0.55, 0.6, 0.65}}, {"path", {0.1, 0.2, 0.9}}});
   canvas.save_png(path, force);
 }
 
@@ -126,8 +129,8 @@ void run_odometry(const OdometryOptions& o) {
     PointCloud& cloud = frame->cloud;
     if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
     if (!odo) {
-      const SensorModel sensor = source->sensor() ? *source->sensor()
-                                                  : sensor_for(cloud, o.input, o.sensor);
+      const SensorModel sensor =
+          source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
       cfg.expected_period_s = sensor.sweep_period_s();
       odo = std::make_unique<odometry::LidarOdometry>(sensor, cfg);
       if (!imu_path.empty()) odo->add_imu(read_imu(imu_path));

@@ -37,10 +37,13 @@ void ring_curvature(const PointCloud& cloud, const std::vector<std::uint32_t>& i
     p[k] = cloud.points[idx[k]].xyz();
     r[k] = p[k].norm();
   }
+  // sum_j (X_k - X_j) over the 2n neighbours = (2n + 1) X_k - (sum of the window), the window
+  // sum kept by sliding.
+  Eigen::Vector3f window = Eigen::Vector3f::Zero();
+  for (int j = 0; j <= 2 * n; ++j) window += p[j];
   for (int k = n; k < m - n; ++k) {
-    Eigen::Vector3f s = Eigen::Vector3f::Zero();
-    for (int j = k - n; j <= k + n; ++j) s += p[k] - p[j];
-    c[k] = s.norm() / (2.f * n * r[k]);
+    if (k > n) window += p[k + n] - p[k - n - 1];
+    c[k] = (float(2 * n + 1) * p[k] - window).norm() / (2.f * n * r[k]);
   }
   if (!cfg) return;
   // LOAM's unreliable points: the farther side of an occlusion, surfaces parallel to the beam.
@@ -110,9 +113,12 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
       order.clear();
       for (int k = b; k < e; ++k)
         if (c[k] >= C) order.push_back(k);
-      std::sort(order.begin(), order.end(), [&](int a, int b2) { return c[a] > c[b2]; });
+      const auto edge_head = std::min<std::size_t>(order.size(), 8 * config.edges_per_sector);
+      std::partial_sort(order.begin(), order.begin() + edge_head, order.end(),
+                        [&](int a, int b2) { return c[a] > c[b2]; });
       int taken = 0;
-      for (int k : order) {
+      for (std::size_t h = 0; h < edge_head; ++h) {
+        const int k = order[h];
         if (taken >= config.edges_per_sector) break;
         if (picked[k] || (!plane_only.empty() && plane_only[idx[k]])) continue;
         (c[k] >= (1 + C) / 2 ? strong_e : weak_e).push_back(cloud.points[idx[k]].xyz());
@@ -139,7 +145,8 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
     for (int k = 0; k < m; ++k) {
       if (c[k] < 0) continue;
       const bool edge = c[k] >= C && (plane_only.empty() || !plane_only[idx[k]]);
-      if (edge) f.edge_candidates.push_back(cloud.points[idx[k]].xyz());
+      if (edge)
+        f.edge_candidates.push_back(cloud.points[idx[k]].xyz());
       else if (c[k] < C && (picked[k] || ++stride % config.map_plane_stride == 0))
         f.plane_candidates.push_back(cloud.points[idx[k]].xyz());
     }

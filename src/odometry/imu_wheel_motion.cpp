@@ -30,8 +30,8 @@ bool covers(std::span<const S> s, double t0, double t1, double max_gap_s) {
 /// Value of the sample stream at time t (the last sample at or before t, else the first).
 template <class S>
 const S& sample_at(std::span<const S> s, double t) {
-  auto it = std::upper_bound(s.begin(), s.end(), t,
-                             [](double v, const S& x) { return v < x.stamp_s; });
+  auto it =
+      std::upper_bound(s.begin(), s.end(), t, [](double v, const S& x) { return v < x.stamp_s; });
   return it == s.begin() ? *it : *(it - 1);
 }
 
@@ -43,8 +43,7 @@ std::optional<ImuWheelMotion> integrate_motion(std::span<const ImuSample> imu,
                                                const Eigen::Vector3d& g_base0_m_s2,
                                                const DeskewConfig& config) {
   const bool has_imu = config.use_imu && covers(imu, t0_s, t1_s, config.max_imu_gap_s);
-  const bool has_wheels =
-      config.use_wheels && covers(wheels, t0_s, t1_s, config.max_wheel_gap_s);
+  const bool has_wheels = config.use_wheels && covers(wheels, t0_s, t1_s, config.max_wheel_gap_s);
   if (!has_imu && !has_wheels) return std::nullopt;
 
   const Pose& T_bl = config.T_base_lidar;

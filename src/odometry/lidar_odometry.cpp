@@ -100,36 +100,85 @@ OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
 void LidarOdometry::register_features(const Features& features, const Pose& prior,
                                       OdometryResult& result) {
   Pose T = prior;
+  const std::size_t n = features.edges.size() + features.planes.size();
+  double first_fraction = 1.0;
+  bool ok = match_rounds(map_, features, T, result, &first_fraction);
+  // A prior far off (a fast turn, skipped frames, a rough start in a saved map): few features
+  // find a line or plane near them. Align on a coarse copy of the map first, then again.
+  if (config_.coarse_voxel_m > 0 && first_fraction < config_.coarse_below_fraction && n > 0) {
+    LocalMapConfig cc = config_.map;
+    cc.voxel_m = config_.coarse_voxel_m;
+    cc.max_neighbour_distance_m = 0.5 * config_.coarse_voxel_m;
+    cc.min_point_spacing_m = 0.25 * config_.coarse_voxel_m / 4;
+    cc.max_points_per_voxel = 4 * config_.map.max_points_per_voxel;
+    cc.max_plane_distance_m = 2 * config_.map.max_plane_distance_m;
+    const LocalMap coarse = LocalMap::from_cloud(map_.to_cloud(), cc);
+    Pose Tc = prior;
+    if (match_rounds(coarse, features, Tc, result, nullptr)) {
+      Pose Tf = Tc;
+      double fraction = 0;
+      OdometryResult retry = result;
+      if (match_rounds(map_, features, Tf, retry, &fraction) && fraction > first_fraction) {
+        retry.warnings.push_back(fmt::format(
+            "prior {:.2f} m / {:.1f} deg off: re-aligned on the coarse map",
+            (Tf.translation() - prior.translation()).norm(),
+            Eigen::AngleAxisd(Tf.linear() * prior.linear().transpose()).angle() * 180 / M_PI));
+        result = std::move(retry);
+        T = Tf;
+        ok = true;
+      }
+    }
+  }
+  if (!ok) {
+    result.warnings.push_back(
+        fmt::format("{} feature matches (< {}): too few features, pose from the motion prior",
+                    result.inliers, config_.min_matches));
+    result.registered = false;
+    result.T_world_lidar = prior;
+    return;
+  }
+  result.T_world_lidar = T;
+}
+
+bool LidarOdometry::match_rounds(const LocalMap& map, const Features& features, Pose& T,
+                                 OdometryResult& result, double* first_fraction) const {
   std::vector<Correspondence> matches;
+  // Each query's match and where (world) it was looked up: a query that moved less than
+  // reassociate_m since keeps its line or plane (a miss stays a miss).
+  const std::size_t n_edges = features.edges.size();
+  const std::size_t n = n_edges + features.planes.size();
+  std::vector<std::optional<Correspondence>> cache(n);
+  std::vector<Eigen::Vector3f> looked_up(n);
+  const float reassociate2 = float(config_.reassociate_m * config_.reassociate_m);
+  bool registered = false;
   for (int round = 0; round < config_.max_associations; ++round) {
     matches.clear();
     const Eigen::Matrix3f R = T.linear().cast<float>();
     const Eigen::Vector3f tr = T.translation().cast<float>();
-    for (const auto& p : features.edges)
-      if (auto m = map_.match_edge(R * p + tr)) {
-        m->point_lidar = p.cast<double>();
-        matches.push_back(*m);
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool edge = i < n_edges;
+      const Eigen::Vector3f& p = edge ? features.edges[i] : features.planes[i - n_edges];
+      const Eigen::Vector3f q = R * p + tr;
+      if (round == 0 || (q - looked_up[i]).squaredNorm() > reassociate2) {
+        cache[i] = edge ? map.match_edge(q) : map.match_plane(q);
+        looked_up[i] = q;
       }
-    for (const auto& p : features.planes)
-      if (auto m = map_.match_plane(R * p + tr)) {
-        m->point_lidar = p.cast<double>();
-        matches.push_back(*m);
+      if (cache[i]) {
+        matches.push_back(*cache[i]);
+        matches.back().point_lidar = p.cast<double>();
       }
-    result.inliers = matches.size();
-    if (int(matches.size()) < config_.min_matches) {
-      result.warnings.push_back(fmt::format(
-          "{} feature matches (< {}): too few features, pose from the motion prior",
-          matches.size(), config_.min_matches));
-      result.registered = false;
-      result.T_world_lidar = prior;
-      return;
     }
+    if (round == 0 && first_fraction)
+      *first_fraction = n > 0 ? double(matches.size()) / double(n) : 0.0;
+    result.inliers = matches.size();
+    if (int(matches.size()) < config_.min_matches) return registered;
     const LmResult lm = solve_lm(matches, T, config_.lm);
     result.iterations += lm.iterations;
     result.degenerate = lm.degenerate;
     result.eigenvalues = lm.eigenvalues;
     const Pose step = lm.T_world_lidar * T.inverse();
     T = lm.T_world_lidar;
+    registered = true;
     result.registered = true;
     if (step.translation().norm() < config_.convergence_m &&
         Eigen::AngleAxisd(step.linear()).angle() < config_.convergence_m) {
@@ -137,7 +186,7 @@ void LidarOdometry::register_features(const Features& features, const Pose& prio
       break;
     }
   }
-  result.T_world_lidar = T;
+  return registered;
 }
 
 void LidarOdometry::update_map(const Features& features, const Pose& T_world_lidar) {

@@ -97,7 +97,7 @@ LmResult solve_lm(std::span<const Correspondence> matches, const Pose& T_world_l
     Mat6 A = sys.H;
     A.diagonal() += lambda * sys.H.diagonal();
     Vec6 dx = -A.ldlt().solve(sys.g);
-    if (out.degenerate) dx = keep * dx;
+    if (out.degenerate && config.hold_degenerate) dx = keep * dx;
     const Pose T_new = se3_exp(dx) * out.T_world_lidar;
     const System trial = build(matches, T_new, config.robust_scale_m);
     ++out.iterations;

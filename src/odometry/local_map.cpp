@@ -140,10 +140,12 @@ std::optional<Correspondence> LocalMap::match_edge(const Eigen::Vector3f& point_
 }
 
 std::optional<Correspondence> LocalMap::match_plane(const Eigen::Vector3f& point_world) const {
-  if (planes_.nearest(point_world, scratch) < std::size_t(config_.neighbours))
-    return std::nullopt;
+  if (planes_.nearest(point_world, scratch) < std::size_t(config_.neighbours)) return std::nullopt;
   const Fit f = fit(scratch);
   if (f.values(1) < config_.min_plane_spread * f.values(2)) return std::nullopt;
+  if (config_.max_plane_thickness_m > 0 &&
+      f.values(0) > config_.max_plane_thickness_m * config_.max_plane_thickness_m)
+    return std::nullopt;
   const Eigen::Vector3d n = f.vectors.col(0);
   for (const auto& p : scratch)
     if (std::abs(n.dot(p.cast<double>() - f.mean)) > config_.max_plane_distance_m)

@@ -29,14 +29,17 @@ void append_in_order(std::vector<S>& dst, std::span<const S> src) {
 
 }  // namespace
 
-void LidarOdometry::add_imu(std::span<const ImuSample> samples) { append_in_order(imu_, samples); }
+void LidarOdometry::add_imu(std::span<const ImuSample> samples) {
+  append_in_order(imu_, samples);
+}
 void LidarOdometry::add_wheels(std::span<const WheelSample> samples) {
   append_in_order(wheels_, samples);
 }
 
 void LidarOdometry::trim_streams(double before_s) {
   auto drop = [before_s](auto& v) {
-    auto it = std::find_if(v.begin(), v.end(), [&](const auto& s) { return s.stamp_s >= before_s; });
+    auto it =
+        std::find_if(v.begin(), v.end(), [&](const auto& s) { return s.stamp_s >= before_s; });
     v.erase(v.begin(), it);
   };
   drop(imu_);
@@ -62,13 +65,14 @@ LidarOdometry::Prior LidarOdometry::predict(double stamp_s, std::vector<std::str
   double dt = stamp_s - last_stamp_s_;
   if (initialised_) {
     if (dt <= 0) {
-      warnings.push_back(fmt::format("frame at {:.3f} s not after the previous one ({:.3f} s): "
-                                     "out of order, predicted as one period",
-                                     stamp_s, last_stamp_s_));
+      warnings.push_back(
+          fmt::format("frame at {:.3f} s not after the previous one ({:.3f} s): "
+                      "out of order, predicted as one period",
+                      stamp_s, last_stamp_s_));
       dt = config_.expected_period_s;
     } else if (dt > 2.5 * config_.expected_period_s) {
-      warnings.push_back(fmt::format("{:.3f} s gap in time before the frame at {:.3f} s", dt,
-                                     stamp_s));
+      warnings.push_back(
+          fmt::format("{:.3f} s gap in time before the frame at {:.3f} s", dt, stamp_s));
     }
     const auto between = dt > 0 && stamp_s > last_stamp_s_
                              ? integrate_motion(imu_, wheels_, last_stamp_s_, stamp_s, v_lidar,
@@ -80,9 +84,9 @@ LidarOdometry::Prior LidarOdometry::predict(double stamp_s, std::vector<std::str
     } else {
       prior.T_world_lidar = T_world_lidar_ * scale_motion(T_last_delta_, dt / last_period);
       if (!imu_.empty() || !wheels_.empty())
-        warnings.push_back(fmt::format(
-            "IMU/wheel streams do not cover {:.3f}-{:.3f} s: constant-velocity prior",
-            last_stamp_s_, stamp_s));
+        warnings.push_back(
+            fmt::format("IMU/wheel streams do not cover {:.3f}-{:.3f} s: constant-velocity prior",
+                        last_stamp_s_, stamp_s));
     }
   }
   const Eigen::Vector3d g_now =
@@ -92,9 +96,9 @@ LidarOdometry::Prior LidarOdometry::predict(double stamp_s, std::vector<std::str
                                     config_.deskew)) {
     prior.sweep = std::move(sweep->motion);
     if (!initialised_) prior.source = sweep->source;
-  } else {
-    prior.sweep = SweepMotion::constant_velocity(scale_motion(T_last_delta_, period / last_period),
-                                                 period);
+  } else if (config_.deskew.constant_velocity) {
+    prior.sweep =
+        SweepMotion::constant_velocity(scale_motion(T_last_delta_, period / last_period), period);
   }
   return prior;
 }

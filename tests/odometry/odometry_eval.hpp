@@ -3,6 +3,7 @@
 // RPE per frame, drift over segments) computed here, independent of the code under test.
 
 #include <cmath>
+#include <cstdlib>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -54,10 +55,10 @@ inline SimSequence simulate_sequence(sim::SceneKind kind, int first, int frames,
 }
 
 struct TrajectoryErrors {
-  double ate_m = 0;         ///< RMSE after rigid alignment
-  double rpe_t_m = 0;       ///< RMS per-frame translation error
-  double rpe_r_deg = 0;     ///< RMS per-frame rotation error
-  double drift_pct = 0;     ///< mean translation error / length over segments
+  double ate_m = 0;      ///< RMSE after rigid alignment
+  double rpe_t_m = 0;    ///< RMS per-frame translation error
+  double rpe_r_deg = 0;  ///< RMS per-frame rotation error
+  double drift_pct = 0;  ///< mean translation error / length over segments
   double path_m = 0;
 };
 
@@ -66,8 +67,9 @@ inline double angle_deg(const Eigen::Matrix3d& R) {
 }
 
 /// est and ref: poses of the same frames; segments of `segment_m` for the drift.
-inline TrajectoryErrors trajectory_errors(const std::vector<Pose>& est, const std::vector<Pose>& ref,
-                                          double segment_m, bool with_scale = false) {
+inline TrajectoryErrors trajectory_errors(const std::vector<Pose>& est,
+                                          const std::vector<Pose>& ref, double segment_m,
+                                          bool with_scale = false) {
   TrajectoryErrors e;
   const std::size_t n = std::min(est.size(), ref.size());
   Eigen::Matrix3Xd A(3, n), B(3, n);
@@ -78,7 +80,8 @@ inline TrajectoryErrors trajectory_errors(const std::vector<Pose>& est, const st
   const Eigen::Matrix4d T = Eigen::umeyama(A, B, with_scale);
   double se = 0;
   for (std::size_t i = 0; i < n; ++i)
-    se += ((T.topLeftCorner<3, 3>() * A.col(i) + T.topRightCorner<3, 1>()) - B.col(i)).squaredNorm();
+    se +=
+        ((T.topLeftCorner<3, 3>() * A.col(i) + T.topRightCorner<3, 1>()) - B.col(i)).squaredNorm();
   e.ate_m = std::sqrt(se / n);
   double st = 0, sr = 0;
   std::vector<double> dist(n, 0.0);
@@ -122,6 +125,39 @@ inline std::vector<Pose> run(const SimSequence& s, OdometryConfig cfg, bool moti
     if (results) results->push_back(std::move(r));
   }
   return est;
+}
+
+/// Tuning knobs of the report runs, from the environment.
+inline void apply_env(OdometryConfig& c) {
+  auto num = [](const char* name, double& v) {
+    if (const char* s = std::getenv(name)) v = std::atof(s);
+  };
+  auto integer = [](const char* name, int& v) {
+    if (const char* s = std::getenv(name)) v = std::atoi(s);
+  };
+  num("THICK", c.map.max_plane_thickness_m);
+  integer("VOXPTS", c.map.max_points_per_voxel);
+  num("VOXM", c.map.voxel_m);
+  num("SPACING", c.map.min_point_spacing_m);
+  integer("LMIT", c.lm.max_iterations);
+  integer("ROUNDS", c.max_associations);
+  num("CONV", c.convergence_m);
+  num("REASSOC", c.reassociate_m);
+  num("COARSE", c.coarse_voxel_m);
+  num("COARSEFRAC", c.coarse_below_fraction);
+  num("SPREAD", c.map.min_plane_spread);
+  num("CURV", c.features.curvature_threshold);
+  integer("NEDGE", c.features.edges_per_sector);
+  integer("NPLANE", c.features.planes_per_sector);
+  integer("STRIDE", c.features.map_plane_stride);
+  num("ROBUST", c.lm.robust_scale_m);
+  num("DEGEN", c.lm.degenerate_eigenvalue);
+  if (std::getenv("HOLDDEGEN")) c.lm.hold_degenerate = true;
+  if (std::getenv("NODESKEW")) c.deskew.enabled = false;
+  if (std::getenv("CVDESKEW")) c.deskew.constant_velocity = true;
+  if (std::getenv("GROUND")) c.preprocess.split_ground = true;
+  if (std::getenv("CLUSTERS")) c.preprocess.drop_small_clusters = true;
+  if (std::getenv("ROBUSTGROUND")) c.preprocess.ground.method = segmentation::GroundMethod::kRobust;
 }
 
 inline std::vector<Pose> relative_to_first(const std::vector<Pose>& poses) {

@@ -17,9 +17,9 @@ struct FeatureConfig {
   /// C in [0, 1] over c = |sum_j (X_i - X_j)| / (|S| |X_i|): edge when c >= C (strong when
   /// c >= (1 + C) / 2), planar when c < C (strong when c < C / 2).
   double curvature_threshold = 0.05;
-  int sectors = 6;            ///< per ring, as LOAM
-  int edges_per_sector = 10;  ///< seed 002: the 10 strongest edge points (topped up from weak)
-  int planes_per_sector = 20; ///< seed 002: the 20 strongest planar points
+  int sectors = 6;             ///< per ring, as LOAM
+  int edges_per_sector = 10;   ///< seed 002: the 10 strongest edge points (topped up from weak)
+  int planes_per_sector = 20;  ///< seed 002: the 20 strongest planar points
   double min_range_m = 1.0;
   double max_range_m = 80.0;
   /// A neighbour this much farther/nearer in range than the point, relative to its range, marks an
@@ -34,8 +34,8 @@ struct FeatureConfig {
 enum class FeatureKind : std::uint8_t { kNone, kWeakPlane, kStrongPlane, kWeakEdge, kStrongEdge };
 
 struct Features {
-  std::vector<Eigen::Vector3f> edges;   ///< selected for matching, strong before weak
-  std::vector<Eigen::Vector3f> planes;  ///< selected for matching, strong before weak
+  std::vector<Eigen::Vector3f> edges;             ///< selected for matching, strong before weak
+  std::vector<Eigen::Vector3f> planes;            ///< selected for matching, strong before weak
   std::vector<Eigen::Vector3f> edge_candidates;   ///< every edge point (for the map)
   std::vector<Eigen::Vector3f> plane_candidates;  ///< every planar point (for the map)
 };

@@ -34,8 +34,14 @@ struct OdometryConfig {
   LmConfig lm;
   LocalMapConfig map;
   int max_associations = 8;  ///< rounds of (find correspondences, LM) per sweep
+  /// A feature keeps its line / plane from the last round while it moved less than this (m).
+  double reassociate_m = 0.05;
+  /// When fewer than this fraction of the features find a line / plane at the prior, the sweep
+  /// is first aligned on a coarse copy of the map with voxels of coarse_voxel_m (0 = off).
+  double coarse_below_fraction = 0.5;
+  double coarse_voxel_m = 4.0;
   double convergence_m = 1e-3;  ///< stop when a round moves the pose less than this (m and rad)
-  int min_matches = 30;  ///< fewer correspondences: the frame is not registered (prior kept)
+  int min_matches = 30;         ///< fewer correspondences: the frame is not registered (prior kept)
   /// Localisation: track in a given map without adding to it.
   bool update_map = true;
   /// A sweep this far (s) after the previous one is a gap: the velocity prior is scaled to it.
@@ -88,6 +94,9 @@ class LidarOdometry {
   };
   Prior predict(double stamp_s, std::vector<std::string>& warnings);
   void register_features(const Features& features, const Pose& prior, OdometryResult& result);
+  /// Rounds of (correspondences, LM) against `map` from T; false when too few matches.
+  bool match_rounds(const LocalMap& map, const Features& features, Pose& T, OdometryResult& result,
+                    double* first_fraction) const;
   void update_map(const Features& features, const Pose& T_world_lidar);
   void trim_streams(double before_s);
 

@@ -20,16 +20,19 @@ struct LocalMapConfig {
   /// Side of a voxel; neighbours are searched in the 2 x 2 x 2 voxels nearest the query, so
   /// every map point within voxel_m / 2 of it is seen.
   double voxel_m = 1.0;
-  int max_points_per_voxel = 20;      ///< further points in a full voxel are dropped
-  double min_point_spacing_m = 0.2;   ///< a point nearer than this to one of its voxel is dropped
-  double max_range_m = 60.0;          ///< voxels farther from the robot are removed
-  int neighbours = 5;                 ///< points of a line / plane fit (LOAM: 5)
+  int max_points_per_voxel = 20;     ///< further points in a full voxel are dropped
+  double min_point_spacing_m = 0.2;  ///< a point nearer than this to one of its voxel is dropped
+  double max_range_m = 60.0;         ///< voxels farther from the robot are removed
+  int neighbours = 5;                ///< points of a line / plane fit (LOAM: 5)
   double max_neighbour_distance_m = 1.0;  ///< farthest of them from the query
-  double max_plane_distance_m = 0.1;  ///< every fit point within this of the plane
-  double min_line_ratio = 3.0;        ///< largest / second eigenvalue of a line fit
+  double max_plane_distance_m = 0.1;      ///< every fit point within this of the plane
+  double min_line_ratio = 3.0;            ///< largest / second eigenvalue of a line fit
   /// Second / largest eigenvalue of a plane fit at least this: points along one scan line fit
   /// any plane through it and would bias the pose.
   double min_plane_spread = 0.25;
+  /// RMS distance of the fit points from their plane at most this (m): leaves and clutter are
+  /// not planes (0 = off).
+  double max_plane_thickness_m = 0.0;
 };
 
 /// Points of one kind (edges or planes) in a voxel hash.

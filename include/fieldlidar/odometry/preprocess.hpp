@@ -27,9 +27,9 @@ struct PreprocessConfig {
 };
 
 struct Preprocessed {
-  std::vector<std::uint16_t> rings;    ///< per point (Point::kNoRing = none)
-  std::vector<std::uint8_t> allowed;   ///< per point, 0 = noise (empty = all allowed)
-  std::vector<std::uint8_t> ground;    ///< per point, 1 = ground (empty = none)
+  std::vector<std::uint16_t> rings;   ///< per point (Point::kNoRing = none)
+  std::vector<std::uint8_t> allowed;  ///< per point, 0 = noise (empty = all allowed)
+  std::vector<std::uint8_t> ground;   ///< per point, 1 = ground (empty = none)
 };
 
 /// seed 002, step a (rings: the cloud's ring field, else estimated from scan order / elevation),
