@@ -184,8 +184,8 @@ void run_follow(const FollowOptions& o) {
   s["config"] = config_json(cfg.follow);
   write_text(summary, s.dump(2) + "\n", o.force);
   write_picture(png, scene, r,
-                fmt::format("fieldlidar follow: lawn, {}, {} ({} frames)", o.scenario, sensor->name,
-                            r.rows.size()),
+                fmt::format("fieldlidar follow: lawn, {}, {}, {} poses ({} frames)", o.scenario,
+                            sensor->name, loops::to_string(r.pose_source), r.rows.size()),
                 o.force);
   fmt::print(
       "follow: {} frames ({:.1f} s), {}, {} poses; boundary {} vertices, {:.1f} m2, vs walked loop "
