@@ -1,5 +1,5 @@
-// The whole follow loop per frame: simulated VLP-16 sweep -> de-skew -> ground -> clusters ->
-// legs -> tracker -> controller -> boundary (the scan itself is timed separately).
+// The whole follow loop per frame: simulated VLP-16 sweep -> odometry -> de-skew -> ground ->
+// clusters -> legs -> tracker -> controller -> boundary (the scan itself is timed separately).
 
 #include <benchmark/benchmark.h>
 
@@ -11,23 +11,28 @@ namespace {
 
 using namespace fieldlidar;
 
-/// A 10 s closed-loop run per iteration (100 frames, simulation included), reported per frame.
+/// A 10 s closed-loop run per iteration (100 frames, simulation included), reported per frame;
+/// the mower's pose from the odometry (arg 0) or the truth (arg 1).
 void BM_ClosedLoop_10s(benchmark::State& state) {
   static const auto scene = sim::make_lawn_scene({}, 0);
   loops::ClosedLoopConfig cfg;
   cfg.max_time_s = 10.0;
-  double perception_ms = 0;
+  cfg.pose_source = state.range(0) == 0 ? loops::PoseSource::kOdometry : loops::PoseSource::kTruth;
+  double perception_ms = 0, odometry_ms = 0;
   std::size_t frames = 0;
   for (auto _ : state) {
     const auto r = loops::run_closed_loop(scene, SensorModel::vlp16(), cfg);
     perception_ms += r.mean_perception_ms * double(r.rows.size());
+    odometry_ms += r.mean_odometry_ms * double(r.rows.size());
     frames += r.rows.size();
   }
+  state.SetLabel(loops::to_string(cfg.pose_source) + " poses");
   state.counters["frames"] =
       benchmark::Counter(double(frames), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["pipeline_ms_per_frame"] = perception_ms / double(frames);
+  state.counters["odometry_ms_per_frame"] = odometry_ms / double(frames);
 }
-BENCHMARK(BM_ClosedLoop_10s)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_ClosedLoop_10s)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 /// FollowPipeline::step alone on pre-simulated frames (the mower standing, operator walking off).
 void BM_PipelineStep_VLP16(benchmark::State& state) {

@@ -2,10 +2,12 @@
 // operator around a lawn (simulated scans -> ground -> clusters -> legs -> tracker -> controller ->
 // mower motion) and records the lawn boundary.
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -67,20 +69,33 @@ nlohmann::json config_json(const follow::FollowConfig& c) {
   return j;
 }
 
+/// Points of the recording frame placed in the world (the lawn scene).
+std::vector<Eigen::Vector2d> in_world(const Pose& T_world_frame,
+                                      const std::vector<Eigen::Vector2d>& pts) {
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(pts.size());
+  for (const auto& p : pts)
+    out.push_back((T_world_frame * Eigen::Vector3d(p.x(), p.y(), 0)).head<2>());
+  return out;
+}
+
 void write_picture(const fs::path& path, const sim::Scene& scene, const loops::ClosedLoopResult& r,
                    const std::string& title, bool force) {
   TopDownCanvas canvas(scene.min_m(), scene.max_m(), 1400);
+  const Pose& T = r.T_world_frame;
   // Lawn: the operator's true loop, then what the mower did and recorded.
-  canvas.polyline(r.operator_loop, {0.55, 0.8, 0.55}, 10.0, true);
-  canvas.polyline(r.operator_loop, {0.1, 0.55, 0.1}, 1.5, true);
-  for (const auto& p : r.trail) canvas.dot(p, {0.2, 0.4, 0.95}, 1.5);
-  canvas.polyline(r.mower_path, {0.1, 0.1, 0.1}, 1.0);
-  canvas.polyline(r.boundary.vertices, {0.85, 0.15, 0.1}, 2.5, r.boundary.closed);
+  const auto loop = in_world(T, r.operator_loop);
+  canvas.polyline(loop, {0.55, 0.8, 0.55}, 10.0, true);
+  canvas.polyline(loop, {0.1, 0.55, 0.1}, 1.5, true);
+  for (const auto& p : in_world(T, r.trail)) canvas.dot(p, {0.2, 0.4, 0.95}, 1.5);
+  canvas.polyline(in_world(T, r.mower_path), {0.1, 0.1, 0.1}, 1.0);
+  canvas.polyline(in_world(T, r.boundary.vertices), {0.85, 0.15, 0.1}, 2.5, r.boundary.closed);
   for (const auto& x : r.boundary.self_intersections)
-    canvas.circle(x.point_m, 0.4, {0.9, 0.0, 0.6}, 2.0);
+    canvas.circle(in_world(T, {x.point_m}).front(), 0.4, {0.9, 0.0, 0.6}, 2.0);
   if (!r.rows.empty()) {
     const auto& first = r.rows.front();
-    canvas.arrow({first.mower_x, first.mower_y}, first.mower_yaw, 1.5, {0, 0, 0});
+    canvas.arrow(in_world(T, {{first.mower_x, first.mower_y}}).front(), first.mower_yaw + yaw_of(T),
+                 1.5, {0, 0, 0});
   }
   canvas.legend({{"operator's true loop", {0.1, 0.55, 0.1}},
                  {"operator estimate (trail)", {0.2, 0.4, 0.95}},
@@ -98,11 +113,15 @@ void run_follow(const FollowOptions& o) {
   if (!scenario)
     throw Error("--scenario '" + o.scenario +
                 "': expected default, crossing, stop, fast or occluded");
+  const auto pose_source = loops::pose_source_from_string(o.pose_source);
+  if (!pose_source)
+    throw Error("--pose-source '" + o.pose_source + "': expected odometry or truth");
   const auto sensor = SensorModel::preset(o.sensor);
   if (!sensor) throw Error("--sensor '" + o.sensor + "': unknown sensor preset");
   std::optional<GeoOrigin> origin;
   if (!o.origin.empty()) origin = parse_geo_origin(o.origin, "--origin");
   loops::ClosedLoopConfig cfg;
+  cfg.pose_source = *pose_source;
   if (o.target_id >= 0) cfg.follow.target_id = std::uint32_t(o.target_id);
   if (o.max_time_s > 0) cfg.max_time_s = o.max_time_s;
   if (o.safe_distance_m > 0) cfg.follow.safety.safe_distance_m = o.safe_distance_m;
@@ -133,7 +152,9 @@ void run_follow(const FollowOptions& o) {
   fs::create_directories(dir);
   for (const auto& p : {geojson, csv, log, summary, png}) io::check_writable(p, o.force);
 
-  write_text(geojson, follow::boundary_geojson(r.boundary, "world", origin), o.force);
+  const bool odometry = r.pose_source == loops::PoseSource::kOdometry;
+  write_text(geojson, follow::boundary_geojson(r.boundary, odometry ? "odometry" : "world", origin),
+             o.force);
   write_text(csv, follow::boundary_csv(r.boundary), o.force);
   write_text(log, loops::log_csv(r.rows), o.force);
   nlohmann::json s;
@@ -144,7 +165,13 @@ void run_follow(const FollowOptions& o) {
   s["frames"] = r.rows.size();
   s["duration_s"] = r.duration_s;
   s["stopped_by_command"] = r.stopped_by_command;
-  s["frame"] = "world (simulated lawn), x-y in metres";
+  s["pose_source"] = loops::to_string(r.pose_source);
+  s["frame"] = odometry ? "odometry (the lidar pose of the first sweep), x-y in metres"
+                        : "world (simulated lawn), x-y in metres";
+  const Eigen::Vector3d frame_origin = r.T_world_frame.translation();
+  s["frame_in_world"] = {{"x_m", frame_origin.x()},
+                         {"y_m", frame_origin.y()},
+                         {"yaw_deg", yaw_of(r.T_world_frame) * 180 / M_PI}};
   s["boundary_shape"] = follow::to_string(shape);
   s["metrics"] = {{"boundary_mean_distance_m", r.boundary_error.mean_m},
                   {"boundary_hausdorff_m", r.boundary_error.hausdorff_m},
@@ -162,21 +189,37 @@ void run_follow(const FollowOptions& o) {
                   {"max_resume_delay_frames", r.max_resume_delay_frames},
                   {"resumed_after_every_occlusion", r.resumed_after_every_occlusion},
                   {"mean_perception_ms", r.mean_perception_ms}};
+  if (const auto& a = r.odometry_accuracy)
+    s["odometry"] = {{"ate_rmse_m", a->ate_unaligned.translation_m.rmse},
+                     {"ate_max_m", a->ate_unaligned.translation_m.max},
+                     {"ate_se3_aligned_rmse_m", a->ate_se3.translation_m.rmse},
+                     {"rpe_translation_mean_m", a->rpe.translation_m.mean},
+                     {"rpe_rotation_mean_deg", a->rpe.rotation_deg.mean},
+                     {"path_length_m", a->estimate_path_m},
+                     {"true_path_length_m", a->reference_path_m},
+                     {"unregistered_frames", r.odometry_unregistered},
+                     {"degenerate_frames", r.odometry_degenerate},
+                     {"mean_ms_per_frame", r.mean_odometry_ms}};
   s["config"] = config_json(cfg.follow);
   write_text(summary, s.dump(2) + "\n", o.force);
   write_picture(png, scene, r,
-                fmt::format("fieldlidar follow: lawn, {}, {} ({} frames)", o.scenario, sensor->name,
-                            r.rows.size()),
+                fmt::format("fieldlidar follow: lawn, {}, {}, {} poses ({} frames)", o.scenario,
+                            sensor->name, loops::to_string(r.pose_source), r.rows.size()),
                 o.force);
   fmt::print(
-      "follow: {} frames ({:.1f} s), {}; boundary {} vertices, {:.1f} m2, vs walked loop mean "
-      "{:.3f} m, Hausdorff {:.3f} m; {} self-intersections; target id {} switches {}; frames "
-      "moving below L_s {}\nwrote {}\n",
+      "follow: {} frames ({:.1f} s), {}, {} poses; boundary {} vertices, {:.1f} m2, vs walked loop "
+      "mean {:.3f} m, Hausdorff {:.3f} m; {} self-intersections; target id {} switches {}; frames "
+      "moving below L_s {}\n",
       r.rows.size(), r.duration_s, r.stopped_by_command ? "stopped at the start" : "time limit",
-      r.boundary.vertices.size(), r.boundary.area_m2, r.boundary_error.mean_m,
-      r.boundary_error.hausdorff_m, r.boundary.self_intersections.size(),
+      loops::to_string(r.pose_source), r.boundary.vertices.size(), r.boundary.area_m2,
+      r.boundary_error.mean_m, r.boundary_error.hausdorff_m, r.boundary.self_intersections.size(),
       r.first_target_id ? std::int64_t(*r.first_target_id) : -1, r.target_switches,
-      r.frames_moving_too_close, dir.string());
+      r.frames_moving_too_close);
+  if (const auto& a = r.odometry_accuracy)
+    fmt::print("odometry: ATE {:.3f} m (max {:.3f} m) along {:.1f} m, {:.1f} ms per frame\n",
+               a->ate_unaligned.translation_m.rmse, a->ate_unaligned.translation_m.max,
+               a->reference_path_m, r.mean_odometry_ms);
+  fmt::print("wrote {}\n", dir.string());
 }
 
 void add_follow_command(CLI::App& app) {
@@ -203,10 +246,15 @@ void add_follow_command(CLI::App& app) {
   cmd->add_option("--max-distance", o->max_distance_m, "L_m in m (default 7.0)")
       ->check(real_above(0, 100));
   cmd->add_option("--origin", o->origin,
-                  "LAT,LON[,HEADING_DEG]: WGS84 position of the lawn frame's origin (and compass "
-                  "bearing of its +x axis, default 90 = x east): boundary.geojson in longitude/"
+                  "LAT,LON[,HEADING_DEG]: WGS84 position of the boundary frame's origin (the "
+                  "mower's start with --pose-source odometry) and compass bearing of its +x axis, "
+                  "default 90 = x east): boundary.geojson in longitude/"
                   "latitude as RFC 7946 asks (tangent plane: 1 mm error at 100 m, 0.1 m at 1 km, "
                   "at 48 deg latitude)");
+  cmd->add_option("--pose-source", o->pose_source,
+                  "The mower's pose: odometry (LiDAR + IMU + wheels) or truth (the simulator's)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"odometry", "truth"}));
   cmd->add_option("--out", o->out, "Output folder")->required();
   cmd->add_flag("--force", o->force, "Overwrite existing output files");
   cmd->callback([o] { run_follow(*o); });

@@ -18,6 +18,7 @@ struct FollowOptions {
   double safe_distance_m = -1;
   double max_distance_m = -1;
   std::string origin;  ///< "LAT,LON[,HEADING_DEG]" for WGS84 GeoJSON; empty: local metres
+  std::string pose_source = "odometry";  ///< odometry or truth
 };
 
 /// Runs the simulated closed loop and writes boundary.geojson, boundary.csv, follow_log.csv,

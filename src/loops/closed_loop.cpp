@@ -1,8 +1,10 @@
+// The seed 000 follow loop driven by the simulator, the mower's pose from LiDAR odometry (or the
+// truth), and its figures against the truth.
+
 #include "fieldlidar/loops/closed_loop.hpp"
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 
 #include "fieldlidar/sim/lidar_simulator.hpp"
 
@@ -12,46 +14,27 @@ using follow::compare_closed;
 using follow::FollowPipeline;
 using follow::FollowState;
 using follow::Pose2;
-using follow::predict_pose;
 using follow::WheelCommand;
 
-std::string to_string(Scenario s) {
-  switch (s) {
-    case Scenario::kDefault:
-      return "default";
-    case Scenario::kCrossing:
-      return "crossing";
-    case Scenario::kStop:
-      return "stop";
-    case Scenario::kFast:
-      return "fast";
-    case Scenario::kOccluded:
-      return "occluded";
-  }
-  return "default";
-}
-
-std::optional<Scenario> scenario_from_string(const std::string& n) {
-  for (auto s : {Scenario::kDefault, Scenario::kCrossing, Scenario::kStop, Scenario::kFast,
-                 Scenario::kOccluded})
-    if (to_string(s) == n) return s;
-  return std::nullopt;
-}
-
-sim::LawnConfig lawn_config(Scenario s) {
-  sim::LawnConfig c;
-  c.second_person_crossing = s == Scenario::kCrossing;
-  c.operator_stops = s == Scenario::kStop;
-  c.operator_too_fast = s == Scenario::kFast;
-  c.operator_behind_shed = s == Scenario::kOccluded;
-  return c;
-}
-
 namespace {
+
+Pose base_pose(const sim::Scene& scene, const Pose2& m) {
+  return make_pose(m.x_m, m.y_m, scene.ground_height_at(m.xy()), 0, 0, m.yaw_rad);
+}
 
 Pose lidar_pose(const sim::Scene& scene, const Pose2& m) {
   const double z = scene.ground_height_at(m.xy()) + scene.sensor_height_m();
   return make_pose(m.x_m, m.y_m, z, 0, 0, m.yaw_rad);
+}
+
+/// A planar pose at height 0.
+Pose flat_pose(const Pose2& m) {
+  return make_pose(m.x_m, m.y_m, 0, 0, 0, m.yaw_rad);
+}
+
+/// A world position in the recording frame (the frames differ by a turn about z and a shift).
+Eigen::Vector2d in_frame(const Pose& T_frame_world, const Eigen::Vector2d& p) {
+  return (T_frame_world * Eigen::Vector3d(p.x(), p.y(), 0)).head<2>();
 }
 
 /// Points re-expressed in the sensor frame at the sweep start (the mower moved during the sweep).
@@ -81,6 +64,17 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
   sim_cfg.seed = cfg.sim_seed;
   const sim::LidarSimulator lidar(scene, sensor, sim_cfg);
   FollowPipeline pipeline(sensor, cfg.follow);
+  const double period = sensor.sweep_period_s();
+  const double b = cfg.follow.drive.track_width_m;
+  res.pose_source = cfg.pose_source;
+  std::optional<OdometryPoseSource> odometry;
+  if (cfg.pose_source == PoseSource::kOdometry) {
+    MotionStreamsConfig streams = cfg.streams;
+    streams.wheels.track_width_m = b;
+    odometry.emplace(sensor, scene.sensor_height_m(), cfg.odometry, streams);
+  }
+  // The recording frame: the world with true poses, the first sweep's lidar pose with odometry.
+  Pose T_frame_world = Pose::Identity();
 
   // Truth: the operator's loop.
   const sim::Walker* op = nullptr;
@@ -102,10 +96,9 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
     mower.y_m = route[0].y();
     mower.yaw_rad = std::atan2(route[1].y() - route[0].y(), route[1].x() - route[0].x());
   }
-  const double period = sensor.sweep_period_s();
-  const double b = cfg.follow.drive.track_width_m;
   WheelCommand cmd;
-  double perception_total_ms = 0;
+  double perception_total_ms = 0, odometry_total_ms = 0;
+  MowerSegment previous;
   std::optional<std::uint32_t> last_target;
   // Occlusion bookkeeping.
   int hidden_run = 0, occlusion_start = -1, resume_wait_from = -1;
@@ -113,28 +106,63 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
 
   for (int k = 0; k * period < max_time; ++k) {
     const double t0 = k * period;
-    const Pose2 start = mower;
     const double v = cmd.v_m_s, dv = cmd.dv_m_s;
-    auto pose_at = [&](double t) {
-      return lidar_pose(scene, predict_pose(start, v, dv, b, t - t0));
-    };
+    const MowerSegment segment{mower, t0, v, dv, b};
+    if (k == 0) previous = segment;
+    auto pose_at = [&](double t) { return lidar_pose(scene, segment.at(t)); };
     const auto frame = lidar.scan(t0, pose_at);
     const Pose T0 = pose_at(t0);
-    const PointCloud cloud = deskew(frame.cloud, pose_at, t0, T0);
     // The command computed from this sweep applies from its end on.
-    mower = predict_pose(start, v, dv, b, period);
+    mower = follow::predict_pose(mower, v, dv, b, period);
+
+    // The pose the pipeline works with: the lidar at the sweep start and the mower at its end.
+    Pose T0_used = T0;
+    Pose2 mower_used = mower;
+    PointCloud cloud;
+    LogRow row;
+    if (!odometry) {
+      cloud = deskew(frame.cloud, pose_at, t0, T0);
+    } else {
+      if (k == 0) T_frame_world = T0.inverse();
+      // The streams the mower records while it drives this period (the IMU's finite differences
+      // reach into the previous one).
+      odometry->add_streams(
+          [&](double t) { return base_pose(scene, (t < t0 ? previous : segment).at(t)); }, t0,
+          t0 + period);
+      const auto tic = std::chrono::steady_clock::now();
+      const auto r = odometry->register_sweep(frame.cloud);
+      row.odometry_ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tic).count();
+      odometry_total_ms += row.odometry_ms;
+      row.odometry_registered = r.registered || k == 0;
+      res.odometry_unregistered += !row.odometry_registered;
+      res.odometry_degenerate += r.degenerate;
+      T0_used = r.T_world_lidar;
+      // The wheel odometry the loop has: the commanded speeds carry the pose over the sweep and
+      // re-project its points onto the sweep start.
+      const MowerSegment relative{{}, t0, v, dv, b};
+      cloud = deskew(
+          frame.cloud, [&](double t) { return flat_pose(relative.at(t)); }, t0, Pose::Identity());
+      mower_used = follow::predict_pose(planar(T0_used), v, dv, b, period);
+    }
+    previous = segment;
+    res.lidar_poses_used.push_back(T0_used);
+    res.lidar_poses_true.push_back(T_frame_world * T0);
     const auto tic = std::chrono::steady_clock::now();
-    const auto out = pipeline.step(cloud, T0, mower, t0 + period / 2, period);
+    const auto out = pipeline.step(cloud, T0_used, mower_used, t0 + period / 2, period);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tic).count();
     perception_total_ms += ms;
     cmd = out.control.command;
 
-    LogRow row;
     row.t_s = t0 + period;
-    row.mower_x = mower.x_m;
-    row.mower_y = mower.y_m;
-    row.mower_yaw = std::remainder(mower.yaw_rad, 2 * M_PI);
+    const Eigen::Vector2d mower_xy = in_frame(T_frame_world, mower.xy());
+    row.mower_x = mower_xy.x();
+    row.mower_y = mower_xy.y();
+    row.mower_yaw = std::remainder(mower.yaw_rad + yaw_of(T_frame_world), 2 * M_PI);
+    row.mower_est_x = mower_used.x_m;
+    row.mower_est_y = mower_used.y_m;
+    row.mower_est_yaw = std::remainder(mower_used.yaw_rad, 2 * M_PI);
     if (out.target_world_m) {
       row.est_x = out.target_world_m->x();
       row.est_y = out.target_world_m->y();
@@ -143,10 +171,11 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
       if (p.id == cfg.operator_id) row.target_points = p.points;
     for (const auto& p : scene.people_at(row.t_s))
       if (p.id == cfg.operator_id) {
-        row.true_x = p.position_m.x();
-        row.true_y = p.position_m.y();
+        const Eigen::Vector2d q = in_frame(T_frame_world, p.position_m);
+        row.true_x = q.x();
+        row.true_y = q.y();
       }
-    row.true_distance_m = std::hypot(row.true_x - mower.x_m, row.true_y - mower.y_m);
+    row.true_distance_m = std::hypot(row.true_x - row.mower_x, row.true_y - row.mower_y);
     if (out.control.distance_m >= 0) row.distance_m = out.control.distance_m;
     row.wheel_left = cmd.left_m_s;
     row.wheel_right = cmd.right_m_s;
@@ -155,7 +184,7 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
     row.people_detected = out.perception.people_m.size();
     row.perception_ms = ms;
     res.rows.push_back(row);
-    res.mower_path.push_back(mower.xy());
+    res.mower_path.push_back(mower_xy);
 
     // Metrics.
     if (cmd.moving() && row.true_distance_m < cfg.follow.safety.safe_distance_m)
@@ -200,7 +229,7 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
     // The stop command: the mower is back at the start of the recorded boundary.
     const auto& rec = pipeline.recorder();
     if (rec.length_m() > cfg.stop_fraction * loop_length && !rec.points().empty() &&
-        (mower.xy() - rec.points().front()).norm() < cfg.stop_radius_m) {
+        (mower_used.xy() - rec.points().front()).norm() < cfg.stop_radius_m) {
       res.stopped_by_command = true;
       res.duration_s = row.t_s;
       break;
@@ -212,26 +241,17 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
   res.boundary = pipeline.stop();
   res.boundary.closed = res.stopped_by_command;  // a time limit leaves the path open
   res.trail = pipeline.trail().points();
+  for (auto& p : res.operator_loop) p = in_frame(T_frame_world, p);
+  res.T_world_frame = T_frame_world.inverse();
   res.boundary_error = compare_closed(res.boundary.vertices, res.operator_loop);
-  res.mean_perception_ms = res.rows.empty() ? 0 : perception_total_ms / double(res.rows.size());
-  return res;
-}
-
-std::string log_csv(const std::vector<LogRow>& rows) {
-  std::string s =
-      "t,mower_x,mower_y,mower_yaw,est_x,est_y,true_target_x,true_target_y,distance,"
-      "true_distance,wheel_left,wheel_right,state,target_id,target_points,people_detected\n";
-  char buf[512];
-  for (const auto& r : rows) {
-    std::snprintf(buf, sizeof buf,
-                  "%.3f,%.4f,%.4f,%.5f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%lld,%u,%zu\n",
-                  r.t_s, r.mower_x, r.mower_y, r.mower_yaw, r.est_x, r.est_y, r.true_x, r.true_y,
-                  r.distance_m, r.true_distance_m, r.wheel_left, r.wheel_right,
-                  to_string(r.state).c_str(), static_cast<long long>(r.target_id), r.target_points,
-                  r.people_detected);
-    s += buf;
+  const double frames = std::max<double>(1.0, double(res.rows.size()));
+  res.mean_perception_ms = perception_total_ms / frames;
+  if (odometry) {
+    res.mean_odometry_ms = odometry_total_ms / frames;
+    if (res.lidar_poses_used.size() >= 2)
+      res.odometry_accuracy = evaluate_trajectory(res.lidar_poses_used, res.lidar_poses_true);
   }
-  return s;
+  return res;
 }
 
 }  // namespace fieldlidar::loops

@@ -55,6 +55,10 @@ TEST(CliFollow, ShortRunWritesAllOutputsAndRefusesToOverwrite) {
   EXPECT_DOUBLE_EQ(s["config"]["L_m_m"].get<double>(), 7.0);
   EXPECT_EQ(s["metrics"]["frames_moving_below_L_s"].get<int>(), 0);
   EXPECT_GT(s["metrics"]["frames_following"].get<int>(), 30);  // of 40 frames
+  // The mower's pose from the odometry by default, its error against the truth reported.
+  EXPECT_EQ(s["pose_source"], "odometry");
+  EXPECT_LT(s["odometry"]["ate_rmse_m"].get<double>(), 0.05);
+  EXPECT_EQ(s["odometry"]["unregistered_frames"].get<int>(), 0);
   std::istringstream log(slurp(dir / "follow_log.csv"));
   std::string header, row;
   std::getline(log, header);
@@ -70,6 +74,12 @@ TEST(CliFollow, ShortRunWritesAllOutputsAndRefusesToOverwrite) {
   const auto again = test::run_cli("follow --max-time 1 --out " + dir.string());
   EXPECT_EQ(again.exit_code, 1);
   EXPECT_NE(again.output.find("fieldlidar: error:"), std::string::npos);
+  const auto truth =
+      test::run_cli("follow --max-time 1 --pose-source truth --force --out " + dir.string());
+  ASSERT_EQ(truth.exit_code, 0) << truth.output;
+  const auto st = nlohmann::json::parse(slurp(dir / "summary.json"));
+  EXPECT_EQ(st["pose_source"], "truth");
+  EXPECT_FALSE(st.contains("odometry"));
 }
 
 TEST(CliFollow, UnknownTargetIdIsAnErrorAndWritesNothing) {
@@ -85,6 +95,9 @@ TEST(CliFollow, RejectsUnknownScenarioAndBadDistances) {
   auto r = test::run_cli("follow --scenario dance --out " + dir.string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("--scenario 'dance'"), std::string::npos) << r.output;
+  r = test::run_cli("follow --pose-source gps --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--pose-source"), std::string::npos) << r.output;
   r = test::run_cli("follow --safe-distance 5 --max-distance 3 --out " + dir.string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("--safe-distance"), std::string::npos) << r.output;

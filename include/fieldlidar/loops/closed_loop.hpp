@@ -1,7 +1,12 @@
 #pragma once
-/// \file The follow pipeline in closed loop with the simulator: each frame the mower pose gives
-/// the sensor pose, the simulator scans, the pipeline perceives and commands the wheels, and the
-/// mower moves by unicycle kinematics of the commanded wheel speeds. World frame, m, s, rad.
+/// \file The follow pipeline in closed loop with the simulator: each frame the mower's true pose
+/// gives the sensor pose, the simulator scans, the pipeline perceives (at the pose its source
+/// gives: LiDAR odometry by default, or the truth) and commands the wheels, and the mower moves by
+/// unicycle kinematics of the commanded wheel speeds. m, s, rad.
+///
+/// Frames: the pipeline works in its recording frame, the odometry's (the lidar pose of the first
+/// sweep) or, with true poses, the world. Every position of the result (true ones included) is in
+/// the recording frame; `T_world_frame` places it in the world (the lawn scene).
 
 #include <cstdint>
 #include <optional>
@@ -10,8 +15,12 @@
 
 #include <Eigen/Core>
 
+#include "fieldlidar/core/pose.hpp"
 #include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/core/trajectory_metrics.hpp"
 #include "fieldlidar/follow/pipeline.hpp"
+#include "fieldlidar/loops/pose_source.hpp"
+#include "fieldlidar/odometry/lidar_odometry.hpp"
 #include "fieldlidar/sim/scene.hpp"
 #include "fieldlidar/sim/scenes.hpp"
 
@@ -31,12 +40,19 @@ struct ClosedLoopConfig {
   double stop_radius_m = 0.4;   ///< ... and the mower is back within this of the boundary start
   std::uint64_t sim_seed = 1;   ///< sensor noise seed
   std::uint16_t operator_id = 1;  ///< the simulated person who walks the boundary
+  PoseSource pose_source = PoseSource::kOdometry;
+  /// The odometry's settings (its lidar-to-base mount and sweep period are set from the scene
+  /// and the sensor).
+  odometry::OdometryConfig odometry;
+  MotionStreamsConfig streams;  ///< the IMU and wheel streams given to the odometry
 };
 
 /// One row of follow_log.csv.
 struct LogRow {
   double t_s = 0;
-  double mower_x = 0, mower_y = 0, mower_yaw = 0;
+  double mower_x = 0, mower_y = 0, mower_yaw = 0;  ///< true pose at the end of the sweep
+  /// The pose the pipeline used (odometry at the sweep start + the commanded wheel speeds).
+  double mower_est_x = 0, mower_est_y = 0, mower_est_yaw = 0;
   double est_x = NAN, est_y = NAN;  ///< target estimate (NaN when none)
   double true_x = 0, true_y = 0;    ///< the operator's true position
   double distance_m = NAN;          ///< L used by the safety rule (estimated), NaN when lost
@@ -47,14 +63,18 @@ struct LogRow {
   std::uint32_t target_points = 0;  ///< returns on the operator in this sweep (truth)
   std::size_t people_detected = 0;
   double perception_ms = 0;
+  double odometry_ms = 0;
+  bool odometry_registered = true;
 };
 
 struct ClosedLoopResult {
+  PoseSource pose_source = PoseSource::kOdometry;
+  Pose T_world_frame = Pose::Identity();  ///< the recording frame in the world
   std::vector<LogRow> rows;
   follow::BoundaryPolygon boundary;
   std::vector<Eigen::Vector2d> operator_loop;  ///< truth: the operator's closed path
-  std::vector<Eigen::Vector2d> mower_path;
-  std::vector<Eigen::Vector2d> trail;  ///< the operator's estimated breadcrumbs
+  std::vector<Eigen::Vector2d> mower_path;     ///< truth
+  std::vector<Eigen::Vector2d> trail;          ///< the operator's estimated breadcrumbs
   bool stopped_by_command = false;
   double duration_s = 0;
   follow::PolygonDistance boundary_error;   ///< recorded polygon vs operator_loop
@@ -69,6 +89,12 @@ struct ClosedLoopResult {
   int max_resume_delay_frames = -1;  ///< frames from visible again to moving again (-1 never)
   bool resumed_after_every_occlusion = true;
   double mean_perception_ms = 0;
+  // The pose source against the truth, lidar poses at every sweep start (recording frame).
+  std::vector<Pose> lidar_poses_used, lidar_poses_true;
+  std::optional<TrajectoryMetrics> odometry_accuracy;  ///< with the odometry as the pose source
+  std::size_t odometry_unregistered = 0;               ///< sweeps kept at the motion prior
+  std::size_t odometry_degenerate = 0;
+  double mean_odometry_ms = 0;
 };
 
 /// Runs the closed loop on `scene` (a lawn scene) until the stop command or the time limit.
@@ -77,7 +103,8 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
 
 /// CSV text of the log with the header
 /// t,mower_x,mower_y,mower_yaw,est_x,est_y,true_target_x,true_target_y,distance,true_distance,
-/// wheel_left,wheel_right,state,target_id,target_points,people_detected
+/// wheel_left,wheel_right,state,target_id,target_points,people_detected,mower_est_x,mower_est_y,
+/// mower_est_yaw
 std::string log_csv(const std::vector<LogRow>& rows);
 
 }  // namespace fieldlidar::loops

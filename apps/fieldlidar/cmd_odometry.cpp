@@ -1,0 +1,217 @@
+// fieldlidar odometry: LiDAR odometry and mapping over any frame source (seed 002), with the IMU
+// and wheel streams of a simulator folder or given files; poses, map and a picture of both.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/io/cloud_file.hpp"
+#include "fieldlidar/io/file_util.hpp"
+#include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/io/trajectory_io.hpp"
+#include "fieldlidar/odometry/lidar_odometry.hpp"
+#include "support/canvas.hpp"
+#include "support/sensor_choice.hpp"
+
+namespace fieldlidar::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct OdometryOptions {
+  std::string input, imu, odom, map_in, out, sensor;
+  std::vector<double> initial_pose;  ///< x y z roll pitch yaw (m, deg) in the map
+  bool frame_to_frame = false, force = false;
+};
+
+/// Rows of numbers of a CSV file with a header line.
+std::vector<std::vector<double>> read_csv(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path.string() + ": cannot open");
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  std::getline(in, line);
+  for (int n = 2; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    std::vector<double> row;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) {
+      try {
+        row.push_back(std::stod(cell));
+      } catch (const std::exception&) {
+        throw Error(fmt::format("{}: line {}: '{}' is not a number", path.string(), n, cell));
+      }
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+std::vector<odometry::ImuSample> read_imu(const fs::path& path) {
+  std::vector<odometry::ImuSample> out;
+  for (const auto& r : read_csv(path)) {
+    if (r.size() < 7) throw Error(path.string() + ": an IMU row needs 7 columns");
+    out.push_back({r[0], {r[1], r[2], r[3]}, {r[4], r[5], r[6]}});
+  }
+  return out;
+}
+
+/// Wheel speeds from the simulator's odom.csv (stamp, ..., linear_m_s, yaw_rate_rad_s, ...) or
+/// a three-column stamp,linear_m_s,yaw_rate_rad_s file.
+std::vector<odometry::WheelSample> read_wheels(const fs::path& path) {
+  std::vector<odometry::WheelSample> out;
+  for (const auto& r : read_csv(path)) {
+    if (r.size() >= 7)
+      out.push_back({r[0], r[5], r[6]});
+    else if (r.size() == 3)
+      out.push_back({r[0], r[1], r[2]});
+    else
+      throw Error(path.string() + ": a wheel row needs 3 or 10 columns");
+  }
+  return out;
+}
+
+void draw_map(const fs::path& path, const PointCloud& map, const Trajectory& poses, bool force) {
+  Bounds3 b = compute_bounds(map);
+  for (const auto& p : poses) b.extend(p.pose.translation());
+  if (b.empty()) return;
+  TopDownCanvas canvas(b.min.head<2>(), b.max.head<2>(), 1400);
+  for (const auto& p : map.points)
+    canvas.dot({p.x, p.y}, p.intensity == 1.f ? Rgb{0.8, 0.3, 0.2} : Rgb{0.55, 0.6, 0.65}, 0.7);
+  std::vector<Eigen::Vector2d> path_xy;
+  for (const auto& p : poses) path_xy.push_back(p.pose.translation().head<2>());
+  canvas.polyline(path_xy, {0.1, 0.2, 0.9}, 2.5);
+  canvas.title(fmt::format("odometry: {} frames, {:.1f} m", poses.size(), poses.path_length_m()));
+  canvas.legend(
+      {{"edges", {0.8, 0.3, 0.2}}, {"planes", {0.55, 0.6, 0.65}}, {"path", {0.1, 0.2, 0.9}}});
+  canvas.save_png(path, force);
+}
+
+void run_odometry(const OdometryOptions& o) {
+  const fs::path out(o.out);
+  const std::vector<std::string> names = {"poses.txt", "poses_tum.txt", "map.pcd", "map.png",
+                                          "summary.json"};
+  fs::create_directories(out);
+  for (const auto& n : names) io::check_writable(out / n, o.force);
+
+  // A simulator folder: its PCD frames (ring and time), times, IMU and wheel streams.
+  fs::path input(o.input), imu_path(o.imu), odom_path(o.odom);
+  std::vector<double> times;
+  if (fs::is_directory(input) && fs::exists(input / "imu.csv")) {
+    if (imu_path.empty()) imu_path = input / "imu.csv";
+    if (odom_path.empty() && fs::exists(input / "odom.csv")) odom_path = input / "odom.csv";
+    if (fs::exists(input / "times.txt")) times = io::read_kitti_times(input / "times.txt");
+    if (fs::is_directory(input / "pcd")) input = input / "pcd";
+  }
+  auto source = io::FrameSource::open(input);
+  odometry::OdometryConfig cfg;
+  if (o.frame_to_frame) cfg.target = odometry::MatchTarget::kPreviousFrame;
+  std::unique_ptr<odometry::LidarOdometry> odo;
+  Trajectory poses;
+  std::size_t degenerate = 0, unregistered = 0, warnings = 0;
+  std::vector<double> frame_ms;
+  double last_stamp = -1e300;
+  const auto t_start = std::chrono::steady_clock::now();
+  while (auto frame = source->next()) {
+    PointCloud& cloud = frame->cloud;
+    if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
+    if (!odo) {
+      const SensorModel sensor =
+          source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
+      cfg.expected_period_s = sensor.sweep_period_s();
+      odo = std::make_unique<odometry::LidarOdometry>(sensor, cfg);
+      if (!imu_path.empty()) odo->add_imu(read_imu(imu_path));
+      if (!odom_path.empty()) odo->add_wheels(read_wheels(odom_path));
+      if (!o.map_in.empty()) {
+        Pose start = Pose::Identity();
+        if (o.initial_pose.size() == 6) {
+          const double d = M_PI / 180;
+          const auto& v = o.initial_pose;
+          start = make_pose(v[0], v[1], v[2], v[3] * d, v[4] * d, v[5] * d);
+        }
+        odo->set_map(odometry::LocalMap::from_cloud(io::read_cloud(o.map_in), cfg.map), start);
+      }
+    }
+    // Files without stamps: one sweep period apart.
+    if (times.empty() && cloud.stamp_s <= 0 && frame->index > 0)
+      cloud.stamp_s = frame->index * cfg.expected_period_s;
+    const auto r = odo->register_frame(cloud);
+    for (const auto& w : r.warnings) fmt::print(stderr, "warning: frame {}: {}\n", frame->index, w);
+    warnings += r.warnings.size();
+    degenerate += r.degenerate;
+    unregistered += !r.registered && frame->index > 0;
+    if (r.degenerate)
+      fmt::print(stderr, "warning: frame {}: degenerate geometry (smallest eigenvalue {:.3g})\n",
+                 frame->index, r.eigenvalues(0));
+    frame_ms.push_back(r.timings.total_ms);
+    const double stamp = cloud.stamp_s > last_stamp ? cloud.stamp_s : last_stamp + 1e-6;
+    last_stamp = stamp;
+    poses.push_back(stamp, r.T_world_lidar);
+    fmt::print(stderr, "\rframe {} ({:.0f} %): {:.1f} ms, {} matches   ", frame->index,
+               100 * source->progress(), r.timings.total_ms, r.inliers);
+  }
+  fmt::print(stderr, "\n");
+  if (!odo) throw Error(o.input + ": no frame");
+
+  const io::WriteOptions wo{.overwrite = o.force};
+  io::write_kitti_poses(out / "poses.txt", poses, wo);
+  io::write_tum(out / "poses_tum.txt", poses, wo);
+  const PointCloud map = odo->map_cloud();
+  io::write_cloud(out / "map.pcd", map, wo);
+  draw_map(out / "map.png", map, poses, o.force);
+  std::vector<double> sorted = frame_ms;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  const nlohmann::json summary = {{"input", o.input},
+                                  {"frames", poses.size()},
+                                  {"path_length_m", poses.path_length_m()},
+                                  {"median_ms_per_frame", median},
+                                  {"degenerate_frames", degenerate},
+                                  {"unregistered_frames", unregistered},
+                                  {"warnings", warnings},
+                                  {"map_points", map.size()},
+                                  {"imu", imu_path.string()},
+                                  {"wheels", odom_path.string()},
+                                  {"map_in", o.map_in},
+                                  {"seconds", seconds}};
+  const std::string text = summary.dump(2) + "\n";
+  io::write_file_atomic(out / "summary.json", text.data(), text.size(), o.force);
+  fmt::print("odometry: {} frames, {:.2f} m, median {:.1f} ms per frame, {} degenerate -> {}\n",
+             poses.size(), poses.path_length_m(), median, degenerate, out.string());
+}
+
+}  // namespace
+
+void add_odometry_command(CLI::App& app) {
+  auto o = std::make_shared<OdometryOptions>();
+  auto* cmd = app.add_subcommand("odometry", "LiDAR odometry and mapping (seed 002)");
+  cmd->add_option("input", o->input, "Frames: a file, folder, glob, pcap, bag or simulator folder")
+      ->required();
+  cmd->add_option("--imu", o->imu, "IMU CSV (stamp_s, gyro xyz rad/s, accel xyz m/s^2)");
+  cmd->add_option("--odom", o->odom, "Wheel CSV (simulator odom.csv or stamp,linear,yaw_rate)");
+  cmd->add_option("--map-in", o->map_in, "Localise in this saved map (map.pcd of an earlier run)");
+  cmd->add_option("--initial-pose", o->initial_pose, "x y z roll pitch yaw (m, deg) in --map-in")
+      ->expected(6);
+  cmd->add_option("--sensor", o->sensor, "Sensor preset when the input does not say");
+  cmd->add_flag("--frame-to-frame", o->frame_to_frame, "Seed 002 matching against the last frame");
+  cmd->add_option("-o,--out", o->out, "Output folder")->required();
+  cmd->add_flag("-f,--force", o->force, "Replace existing output files");
+  cmd->callback([o] { run_odometry(*o); });
+}
+
+}  // namespace fieldlidar::app

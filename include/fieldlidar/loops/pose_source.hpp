@@ -1,0 +1,72 @@
+#pragma once
+/// \file Where the closed loop's mower takes its pose from: the simulator's truth, or LiDAR
+/// odometry fed with each simulated sweep and the IMU and wheel samples the mower records while
+/// it drives (seed 002 as the pose source of seed 000). The odometry's frame is the lidar pose of
+/// the first sweep.
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/core/pose.hpp"
+#include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/follow/controller.hpp"
+#include "fieldlidar/odometry/lidar_odometry.hpp"
+#include "fieldlidar/sim/motion.hpp"
+
+namespace fieldlidar::loops {
+
+enum class PoseSource {
+  kOdometry,  ///< LiDAR odometry with the IMU and wheel streams (the robot's own estimate)
+  kTruth,     ///< the simulator's true pose
+};
+std::string to_string(PoseSource s);
+/// "odometry", "truth"; nullopt otherwise.
+std::optional<PoseSource> pose_source_from_string(const std::string& name);
+
+/// The mower's motion during one control period: unicycle kinematics of the commanded wheel
+/// speeds from `start` at `t0_s` (world frame, m, s, rad).
+struct MowerSegment {
+  follow::Pose2 start;
+  double t0_s = 0;
+  double v_m_s = 0, dv_m_s = 0, track_width_m = 0.4;
+  follow::Pose2 at(double t_s) const;
+};
+
+/// The sensor streams of the mower as the simulator records them during one control period: IMU
+/// (constant per-axis biases drawn once, white noise independent per period) and wheel speeds.
+struct MotionStreamsConfig {
+  sim::ImuConfig imu;
+  sim::WheelOdometryConfig wheels;
+};
+
+/// LiDAR odometry as the loop's pose source. Per sweep: give the streams of the period, then
+/// register the sweep.
+class OdometryPoseSource {
+ public:
+  /// `sensor_height_m`: the lidar above the base (the IMU/wheel frame), straight up.
+  OdometryPoseSource(const SensorModel& sensor, double sensor_height_m,
+                     odometry::OdometryConfig config, const MotionStreamsConfig& streams);
+
+  /// IMU and wheel samples over [t0_s, t1_s) simulated from the true base pose function.
+  void add_streams(const std::function<Pose(double)>& T_world_base, double t0_s, double t1_s);
+  /// The sweep (points with their time offsets, stamp = sweep start) registered: the lidar pose
+  /// at its start in the odometry frame.
+  odometry::OdometryResult register_sweep(const PointCloud& sweep);
+
+ private:
+  odometry::LidarOdometry odometry_;
+  MotionStreamsConfig streams_;
+  Eigen::Vector3d gyro_bias_rad_s_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d accel_bias_m_s2_ = Eigen::Vector3d::Zero();
+  std::uint64_t periods_ = 0;
+};
+
+/// The planar pose (x, y, yaw) of a 3D pose.
+follow::Pose2 planar(const Pose& T);
+
+}  // namespace fieldlidar::loops

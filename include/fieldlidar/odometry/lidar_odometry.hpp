@@ -1,0 +1,116 @@
+#pragma once
+/// \file LiDAR odometry and mapping for a field robot (seed 002, steps a-f): de-skew, ground and
+/// clusters, curvature features, feature matching by Levenberg-Marquardt, and a local map.
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/core/pose.hpp"
+#include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/odometry/deskew.hpp"
+#include "fieldlidar/odometry/features.hpp"
+#include "fieldlidar/odometry/lm_solver.hpp"
+#include "fieldlidar/odometry/local_map.hpp"
+#include "fieldlidar/odometry/motion_input.hpp"
+#include "fieldlidar/odometry/preprocess.hpp"
+
+namespace fieldlidar::odometry {
+
+/// What the sweep is matched against.
+enum class MatchTarget {
+  kLocalMap,       ///< LOAM's mapping stage: the voxel map of the last frames (default)
+  kPreviousFrame,  ///< seed 002, step d: the previous sweep's features only
+};
+
+struct OdometryConfig {
+  MatchTarget target = MatchTarget::kLocalMap;
+  DeskewConfig deskew;
+  PreprocessConfig preprocess;
+  FeatureConfig features;
+  LmConfig lm;
+  LocalMapConfig map;
+  int max_associations = 8;  ///< rounds of (find correspondences, LM) per sweep
+  /// A feature keeps its line / plane from the last round while it moved less than this (m).
+  double reassociate_m = 0.05;
+  /// When fewer than this fraction of the features find a line / plane at the prior, the sweep
+  /// is first aligned on a coarse copy of the map with voxels of coarse_voxel_m (0 = off).
+  double coarse_below_fraction = 0.5;
+  double coarse_voxel_m = 4.0;
+  double convergence_m = 1e-3;  ///< stop when a round moves the pose less than this (m and rad)
+  int min_matches = 30;         ///< fewer correspondences: the frame is not registered (prior kept)
+  /// Localisation: track in a given map without adding to it.
+  bool update_map = true;
+  /// A sweep this far (s) after the previous one is a gap: the velocity prior is scaled to it.
+  double expected_period_s = 0.1;
+};
+
+struct StepTimings {
+  double deskew_ms = 0, preprocess_ms = 0, features_ms = 0, match_ms = 0, map_ms = 0, total_ms = 0;
+};
+
+/// What happened to one sweep.
+struct OdometryResult {
+  Pose T_world_lidar = Pose::Identity();  ///< lidar pose at the sweep start
+  bool converged = false;
+  bool registered = false;  ///< false: too few matches, the prior (IMU/wheels/velocity) kept
+  int iterations = 0;       ///< LM steps over all rounds
+  std::size_t inliers = 0;  ///< correspondences of the last round
+  std::size_t edge_features = 0, plane_features = 0;
+  bool degenerate = false;  ///< the normal matrix had a degenerate direction (aisle, wall)
+  Eigen::Matrix<double, 6, 1> eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();
+  MotionSource motion_source = MotionSource::kConstantVelocity;
+  std::vector<std::string> warnings;  ///< bad input seen (gaps, order, IMU stopped, NaN points)
+  StepTimings timings;
+};
+
+class LidarOdometry {
+ public:
+  LidarOdometry(const SensorModel& sensor, const OdometryConfig& config = {});
+
+  /// Localisation in a saved map (LocalMap::to_cloud) from a rough first pose; the map is then
+  /// not updated unless config.update_map.
+  void set_map(LocalMap map, const Pose& T_world_lidar_initial);
+  /// IMU and wheel samples, in time order (older ones than the last are dropped with a warning).
+  void add_imu(std::span<const ImuSample> samples);
+  void add_wheels(std::span<const WheelSample> samples);
+
+  /// seed 002, steps a-e for one sweep starting at cloud.stamp_s.
+  OdometryResult register_frame(const PointCloud& cloud);
+
+  const LocalMap& map() const { return map_; }
+  PointCloud map_cloud() const { return map_.to_cloud(); }
+  const Pose& pose() const { return T_world_lidar_; }
+  const OdometryConfig& config() const { return config_; }
+
+ private:
+  struct Prior {
+    Pose T_world_lidar;
+    SweepMotion sweep;
+    MotionSource source = MotionSource::kConstantVelocity;
+  };
+  Prior predict(double stamp_s, std::vector<std::string>& warnings);
+  void register_features(const Features& features, const Pose& prior, OdometryResult& result);
+  /// Rounds of (correspondences, LM) against `map` from T; false when too few matches.
+  bool match_rounds(const LocalMap& map, const Features& features, Pose& T, OdometryResult& result,
+                    double* first_fraction) const;
+  void update_map(const Features& features, const Pose& T_world_lidar);
+  void trim_streams(double before_s);
+
+  SensorModel sensor_;
+  OdometryConfig config_;
+  LocalMap map_;
+  std::vector<ImuSample> imu_;
+  std::vector<WheelSample> wheels_;
+  Pose T_world_lidar_ = Pose::Identity();
+  Pose T_last_delta_ = Pose::Identity();  ///< previous sweep-to-sweep motion
+  double last_stamp_s_ = 0.0, last_period_s_ = 0.0;
+  Eigen::Vector3d gravity_world_m_s2_ = Eigen::Vector3d(0, 0, 9.80665);
+  std::size_t frames_ = 0;
+  bool initialised_ = false;
+};
+
+}  // namespace fieldlidar::odometry

@@ -1,0 +1,98 @@
+#pragma once
+/// \file seed 002, step e and LOAM's mapping stage: edge and planar points in the world frame in
+/// a voxel hash bounded in memory, with the line / plane around a query point.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/odometry/lm_solver.hpp"
+
+namespace fieldlidar::odometry {
+
+struct LocalMapConfig {
+  /// Side of a voxel; neighbours are searched in the 2 x 2 x 2 voxels nearest the query, so
+  /// every map point within voxel_m / 2 of it is seen.
+  double voxel_m = 1.0;
+  int max_points_per_voxel = 20;     ///< further points in a full voxel are dropped
+  double min_point_spacing_m = 0.2;  ///< a point nearer than this to one of its voxel is dropped
+  double max_range_m = 60.0;         ///< voxels farther from the robot are removed
+  int neighbours = 5;                ///< points of a line / plane fit (LOAM: 5)
+  double max_neighbour_distance_m = 1.0;  ///< farthest of them from the query
+  double max_plane_distance_m = 0.1;      ///< every fit point within this of the plane
+  double min_line_ratio = 3.0;            ///< largest / second eigenvalue of a line fit
+  /// Second / largest eigenvalue of a plane fit at least this: points along one scan line fit
+  /// any plane through it and would bias the pose.
+  double min_plane_spread = 0.25;
+  /// RMS distance of the fit points from their plane at most this (m): leaves and clutter are
+  /// not planes (0 = off).
+  double max_plane_thickness_m = 0.0;
+};
+
+/// Points of one kind (edges or planes) in a voxel hash.
+class VoxelMap {
+ public:
+  explicit VoxelMap(const LocalMapConfig& config = {}) : config_(config) {}
+  void insert(std::span<const Eigen::Vector3f> points_world);
+  /// Removes the voxels farther than max_range_m from `centre_world`.
+  void crop(const Eigen::Vector3d& centre_world);
+  void clear() { voxels_.clear(); }
+  /// The `k` nearest points within max_neighbour_distance_m (unsorted), fewer when there are not.
+  std::size_t nearest(const Eigen::Vector3f& query, std::vector<Eigen::Vector3f>& out) const;
+  std::size_t size() const;
+  std::size_t voxel_count() const { return voxels_.size(); }
+  /// Every point, for saving the map.
+  std::vector<Eigen::Vector3f> points() const;
+
+ private:
+  struct Key {
+    std::int32_t x, y, z;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      return (std::size_t(std::uint32_t(k.x)) * 73856093u) ^
+             (std::size_t(std::uint32_t(k.y)) * 19349663u) ^
+             (std::size_t(std::uint32_t(k.z)) * 83492791u);
+    }
+  };
+  Key key_of(const Eigen::Vector3f& p) const;
+  LocalMapConfig config_;
+  std::unordered_map<Key, std::vector<Eigen::Vector3f>, KeyHash> voxels_;
+};
+
+/// The local map of LOAM's mapping stage: an edge and a planar voxel map.
+class LocalMap {
+ public:
+  explicit LocalMap(const LocalMapConfig& config = {})
+      : config_(config), edges_(config), planes_(config) {}
+  const LocalMapConfig& config() const { return config_; }
+  void insert(std::span<const Eigen::Vector3f> edges_world,
+              std::span<const Eigen::Vector3f> planes_world);
+  void crop(const Eigen::Vector3d& centre_world);
+  void clear();
+  bool empty() const { return edges_.voxel_count() + planes_.voxel_count() == 0; }
+  std::size_t size() const { return edges_.size() + planes_.size(); }
+
+  /// The line (edge) or plane of the map around `point_world`; nullopt when the neighbours do not
+  /// form one. The returned correspondence has point_lidar unset.
+  std::optional<Correspondence> match_edge(const Eigen::Vector3f& point_world) const;
+  std::optional<Correspondence> match_plane(const Eigen::Vector3f& point_world) const;
+
+  /// Every map point (edges, then planes), world frame.
+  PointCloud to_cloud() const;
+  /// A map from a saved cloud: points with intensity 1 are edges, the others planes.
+  static LocalMap from_cloud(const PointCloud& cloud, const LocalMapConfig& config = {});
+
+ private:
+  LocalMapConfig config_;
+  VoxelMap edges_, planes_;
+};
+
+}  // namespace fieldlidar::odometry

@@ -1,0 +1,78 @@
+// seed 002, step a: the lidar's motion during a sweep and the sweep re-projected to its start.
+
+#include "fieldlidar/odometry/deskew.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace fieldlidar::odometry {
+
+SweepMotion SweepMotion::constant_velocity(const Pose& T_start_next, double period_s) {
+  SweepMotion m;
+  constexpr int kSamples = 8;
+  for (int i = 0; i <= kSamples; ++i) {
+    const double s = double(i) / kSamples;
+    m.push_back(s * period_s, interpolate(Pose::Identity(), T_start_next, s));
+  }
+  return m;
+}
+
+void SweepMotion::push_back(double t_s, const Pose& T_start_t) {
+  times_.push_back(t_s);
+  poses_.push_back(T_start_t);
+}
+
+Pose SweepMotion::at(double t_s) const {
+  if (poses_.empty()) return Pose::Identity();
+  if (t_s <= times_.front()) return poses_.front();
+  if (t_s >= times_.back()) return poses_.back();
+  const auto it = std::upper_bound(times_.begin(), times_.end(), t_s);
+  const std::size_t i = std::size_t(it - times_.begin());
+  const double span = times_[i] - times_[i - 1];
+  const double s = span > 0 ? (t_s - times_[i - 1]) / span : 0.0;
+  return interpolate(poses_[i - 1], poses_[i], s);
+}
+
+std::vector<float> point_times(const PointCloud& cloud, const DeskewConfig& config) {
+  std::vector<float> t(cloud.size(), 0.f);
+  if (cloud.fields.time) {
+    for (std::size_t i = 0; i < cloud.size(); ++i) t[i] = cloud.points[i].time;
+  } else if (config.azimuth_time_period_s > 0) {
+    // Clockwise from behind the sensor: azimuth +pi at t = 0, 0 at half the period, -pi at the end.
+    const double period = config.azimuth_time_period_s;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const auto& p = cloud.points[i];
+      const double az = std::atan2(double(p.y), double(p.x));
+      t[i] = float((std::numbers::pi - az) / (2 * std::numbers::pi) * period);
+    }
+  }
+  return t;
+}
+
+PointCloud deskew(const PointCloud& cloud, std::span<const float> times_s,
+                  const SweepMotion& motion) {
+  PointCloud out = cloud;
+  if (motion.empty()) return out;
+  // Poses at a few fixed time steps, linear between them: the motion within a sweep is smooth.
+  constexpr int kSteps = 32;
+  const double t_end = std::max(motion.last_time_s(), 1e-6);
+  std::vector<Eigen::Matrix<float, 3, 4>> table(kSteps + 1);
+  for (int k = 0; k <= kSteps; ++k)
+    table[k] = motion.at(t_end * k / kSteps).matrix().topRows<3>().cast<float>();
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    auto& p = out.points[i];
+    if (!p.is_valid()) continue;
+    const float u = std::clamp(float(times_s[i] / t_end), 0.f, 1.f) * kSteps;
+    const int k = std::min(int(u), kSteps - 1);
+    const float w = u - float(k);
+    const Eigen::Matrix<float, 3, 4> T = (1.f - w) * table[k] + w * table[k + 1];
+    const Eigen::Vector3f q = T.leftCols<3>() * p.xyz() + T.col(3);
+    p.x = q.x();
+    p.y = q.y();
+    p.z = q.z();
+  }
+  return out;
+}
+
+}  // namespace fieldlidar::odometry

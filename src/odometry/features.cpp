@@ -1,0 +1,161 @@
+// seed 002, step c: LOAM curvature over 5 neighbours each side on the same ring, edge and planar
+// points by the threshold C, the strongest chosen per sector.
+
+#include "fieldlidar/odometry/features.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fieldlidar::odometry {
+
+namespace {
+
+/// Indices of the valid points of each ring, in scan order.
+std::vector<std::vector<std::uint32_t>> ring_lists(const PointCloud& cloud,
+                                                   std::span<const std::uint16_t> rings,
+                                                   std::span<const std::uint8_t> allowed) {
+  std::vector<std::vector<std::uint32_t>> lists;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const auto r = rings[i];
+    if (r == Point::kNoRing || !cloud.points[i].is_valid()) continue;
+    if (!allowed.empty() && !allowed[i]) continue;
+    if (r >= lists.size()) lists.resize(r + 1);
+    lists[r].push_back(std::uint32_t(i));
+  }
+  return lists;
+}
+
+/// Curvature of each position of one ring, -1 where the window is short or unreliable.
+void ring_curvature(const PointCloud& cloud, const std::vector<std::uint32_t>& idx, int n,
+                    const FeatureConfig* cfg, std::vector<float>& c) {
+  const int m = int(idx.size());
+  c.assign(m, -1.f);
+  if (m < 2 * n + 1) return;
+  std::vector<Eigen::Vector3f> p(m);
+  std::vector<float> r(m);
+  for (int k = 0; k < m; ++k) {
+    p[k] = cloud.points[idx[k]].xyz();
+    r[k] = p[k].norm();
+  }
+  // sum_j (X_k - X_j) over the 2n neighbours = (2n + 1) X_k - (sum of the window), the window
+  // sum kept by sliding.
+  Eigen::Vector3f window = Eigen::Vector3f::Zero();
+  for (int j = 0; j <= 2 * n; ++j) window += p[j];
+  for (int k = n; k < m - n; ++k) {
+    if (k > n) window += p[k + n] - p[k - n - 1];
+    c[k] = (float(2 * n + 1) * p[k] - window).norm() / (2.f * n * r[k]);
+  }
+  if (!cfg) return;
+  // LOAM's unreliable points: the farther side of an occlusion, surfaces parallel to the beam.
+  std::vector<std::uint8_t> bad(m, 0);
+  for (int k = 0; k + 1 < m; ++k) {
+    const float gap = (p[k + 1] - p[k]).norm();
+    const float lim = std::max(float(cfg->max_neighbour_gap_m),
+                               float(cfg->occlusion_ratio) * std::min(r[k], r[k + 1]));
+    if (gap <= lim) continue;
+    const float dr = r[k + 1] - r[k];
+    if (dr > cfg->occlusion_ratio * r[k]) {  // k+1 farther: its side is occluded
+      for (int j = k + 1; j <= std::min(m - 1, k + n); ++j) bad[j] = 1;
+    } else if (-dr > cfg->occlusion_ratio * r[k + 1]) {
+      for (int j = std::max(0, k - n + 1); j <= k; ++j) bad[j] = 1;
+    } else {  // a hole in the ring: neither side has a full window
+      for (int j = std::max(0, k - n + 1); j <= std::min(m - 1, k + n); ++j) bad[j] = 1;
+    }
+  }
+  for (int k = 1; k + 1 < m; ++k) {
+    const float lim = 0.02f * r[k];
+    if ((p[k + 1] - p[k]).norm() > lim && (p[k] - p[k - 1]).norm() > lim) bad[k] = 1;
+    if (r[k] < cfg->min_range_m || r[k] > cfg->max_range_m) bad[k] = 1;
+  }
+  for (int k = 0; k < m; ++k)
+    if (bad[k]) c[k] = -1.f;
+}
+
+}  // namespace
+
+std::vector<float> curvature(const PointCloud& cloud, std::span<const std::uint16_t> rings,
+                             int neighbours) {
+  std::vector<float> out(cloud.size(), -1.f);
+  std::vector<float> c;
+  for (const auto& idx : ring_lists(cloud, rings, {})) {
+    ring_curvature(cloud, idx, neighbours, nullptr, c);
+    for (std::size_t k = 0; k < idx.size(); ++k) out[idx[k]] = c[k];
+  }
+  return out;
+}
+
+Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t> rings,
+                          std::span<const std::uint8_t> allowed,
+                          std::span<const std::uint8_t> plane_only, const FeatureConfig& config) {
+  Features f;
+  std::vector<Eigen::Vector3f> strong_e, weak_e, strong_p, weak_p;
+  const float C = float(config.curvature_threshold);
+  const int n = config.neighbours;
+  std::vector<float> c;
+  std::vector<int> order;
+  std::vector<std::uint8_t> picked;
+  for (const auto& idx : ring_lists(cloud, rings, allowed)) {
+    ring_curvature(cloud, idx, n, &config, c);
+    const int m = int(idx.size());
+    picked.assign(m, 0);
+    // Marks the neighbours of a chosen point so that features spread along the ring.
+    auto suppress = [&](int k) {
+      for (int d = -n; d <= n; ++d) {
+        const int j = k + d;
+        if (j < 0 || j >= m) continue;
+        if ((cloud.points[idx[j]].xyz() - cloud.points[idx[k]].xyz()).squaredNorm() < 0.05f)
+          picked[j] = 1;
+      }
+    };
+    for (int s = 0; s < config.sectors; ++s) {
+      const int b = m * s / config.sectors, e = m * (s + 1) / config.sectors;
+      // Edges: the candidates with c >= C, strongest first.
+      order.clear();
+      for (int k = b; k < e; ++k)
+        if (c[k] >= C) order.push_back(k);
+      const auto edge_head = std::min<std::size_t>(order.size(), 8 * config.edges_per_sector);
+      std::partial_sort(order.begin(), order.begin() + edge_head, order.end(),
+                        [&](int a, int b2) { return c[a] > c[b2]; });
+      int taken = 0;
+      for (std::size_t h = 0; h < edge_head; ++h) {
+        const int k = order[h];
+        if (taken >= config.edges_per_sector) break;
+        if (picked[k] || (!plane_only.empty() && plane_only[idx[k]])) continue;
+        (c[k] >= (1 + C) / 2 ? strong_e : weak_e).push_back(cloud.points[idx[k]].xyz());
+        suppress(k);
+        ++taken;
+      }
+      // Planes: the smallest c first; only the head of the order is needed.
+      order.clear();
+      for (int k = b; k < e; ++k)
+        if (c[k] >= 0 && c[k] < C) order.push_back(k);
+      const auto head = std::min<std::size_t>(order.size(), 8 * config.planes_per_sector);
+      std::partial_sort(order.begin(), order.begin() + head, order.end(),
+                        [&](int a, int b2) { return c[a] < c[b2]; });
+      taken = 0;
+      for (std::size_t h = 0; h < head && taken < config.planes_per_sector; ++h) {
+        const int k = order[h];
+        if (picked[k]) continue;
+        (c[k] < C / 2 ? strong_p : weak_p).push_back(cloud.points[idx[k]].xyz());
+        suppress(k);
+        ++taken;
+      }
+    }
+    int stride = 0;
+    for (int k = 0; k < m; ++k) {
+      if (c[k] < 0) continue;
+      const bool edge = c[k] >= C && (plane_only.empty() || !plane_only[idx[k]]);
+      if (edge)
+        f.edge_candidates.push_back(cloud.points[idx[k]].xyz());
+      else if (c[k] < C && (picked[k] || ++stride % config.map_plane_stride == 0))
+        f.plane_candidates.push_back(cloud.points[idx[k]].xyz());
+    }
+  }
+  f.edges = std::move(strong_e);
+  f.edges.insert(f.edges.end(), weak_e.begin(), weak_e.end());
+  f.planes = std::move(strong_p);
+  f.planes.insert(f.planes.end(), weak_p.begin(), weak_p.end());
+  return f;
+}
+
+}  // namespace fieldlidar::odometry

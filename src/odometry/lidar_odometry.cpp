@@ -1,0 +1,200 @@
+// seed 002, steps a-f: one sweep after the other, de-skewed, split, reduced to features, matched
+// against the local map (or the previous sweep) and added to the map.
+
+#include "fieldlidar/odometry/lidar_odometry.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include <fmt/core.h>
+
+namespace fieldlidar::odometry {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+std::vector<Eigen::Vector3f> to_world(std::span<const Eigen::Vector3f> pts, const Pose& T) {
+  const Eigen::Matrix3f R = T.linear().cast<float>();
+  const Eigen::Vector3f t = T.translation().cast<float>();
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(pts.size());
+  for (const auto& p : pts) out.push_back(R * p + t);
+  return out;
+}
+
+std::size_t count_non_finite(const PointCloud& cloud) {
+  std::size_t n = 0;
+  for (const auto& p : cloud.points)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) ++n;
+  return n;
+}
+
+}  // namespace
+
+LidarOdometry::LidarOdometry(const SensorModel& sensor, const OdometryConfig& config)
+    : sensor_(sensor), config_(config), map_(config.map) {}
+
+void LidarOdometry::set_map(LocalMap map, const Pose& T_world_lidar_initial) {
+  map_ = std::move(map);
+  T_world_lidar_ = T_world_lidar_initial;
+  config_.update_map = false;
+}
+
+OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
+  const auto t_start = Clock::now();
+  OdometryResult result;
+  if (const auto bad = count_non_finite(cloud); bad > 0)
+    result.warnings.push_back(fmt::format("{} points with NaN/inf coordinates ignored", bad));
+
+  // a. de-skew with the motion predicted from IMU + wheels, else a constant velocity.
+  auto t = Clock::now();
+  const Prior prior = predict(cloud.stamp_s, result.warnings);
+  result.motion_source = prior.source;
+  const PointCloud swept = config_.deskew.enabled
+                               ? deskew(cloud, point_times(cloud, config_.deskew), prior.sweep)
+                               : cloud;
+  result.timings.deskew_ms = ms_since(t);
+
+  // b, c. rings, ground, clusters; curvature features.
+  t = Clock::now();
+  const Preprocessed pre = preprocess(swept, sensor_, config_.preprocess);
+  result.timings.preprocess_ms = ms_since(t);
+  t = Clock::now();
+  const Features features =
+      extract_features(swept, pre.rings, pre.allowed, pre.ground, config_.features);
+  result.edge_features = features.edges.size();
+  result.plane_features = features.planes.size();
+  result.timings.features_ms = ms_since(t);
+
+  // d. match against the local map (or the previous sweep) by Levenberg-Marquardt.
+  t = Clock::now();
+  result.T_world_lidar = prior.T_world_lidar;
+  if (!map_.empty()) register_features(features, prior.T_world_lidar, result);
+  result.timings.match_ms = ms_since(t);
+
+  // e. into the world frame: the map grows.
+  t = Clock::now();
+  const bool first = !initialised_;
+  if (result.registered || first) update_map(features, result.T_world_lidar);
+  result.timings.map_ms = ms_since(t);
+
+  // Motion for the next prediction.
+  if (initialised_) {
+    const double dt = cloud.stamp_s - last_stamp_s_;
+    T_last_delta_ = T_world_lidar_.inverse() * result.T_world_lidar;
+    last_period_s_ = dt > 0 ? dt : config_.expected_period_s;
+  }
+  T_world_lidar_ = result.T_world_lidar;
+  if (!initialised_ || cloud.stamp_s > last_stamp_s_) last_stamp_s_ = cloud.stamp_s;
+  initialised_ = true;
+  ++frames_;
+  trim_streams(last_stamp_s_ - 1.0);
+  result.timings.total_ms = ms_since(t_start);
+  return result;
+}
+
+void LidarOdometry::register_features(const Features& features, const Pose& prior,
+                                      OdometryResult& result) {
+  Pose T = prior;
+  const std::size_t n = features.edges.size() + features.planes.size();
+  double first_fraction = 1.0;
+  bool ok = match_rounds(map_, features, T, result, &first_fraction);
+  // A prior far off (a fast turn, skipped frames, a rough start in a saved map): few features
+  // find a line or plane near them. Align on a coarse copy of the map first, then again.
+  if (config_.coarse_voxel_m > 0 && first_fraction < config_.coarse_below_fraction && n > 0) {
+    LocalMapConfig cc = config_.map;
+    cc.voxel_m = config_.coarse_voxel_m;
+    cc.max_neighbour_distance_m = 0.5 * config_.coarse_voxel_m;
+    cc.min_point_spacing_m = 0.25 * config_.coarse_voxel_m / 4;
+    cc.max_points_per_voxel = 4 * config_.map.max_points_per_voxel;
+    cc.max_plane_distance_m = 2 * config_.map.max_plane_distance_m;
+    const LocalMap coarse = LocalMap::from_cloud(map_.to_cloud(), cc);
+    Pose Tc = prior;
+    if (match_rounds(coarse, features, Tc, result, nullptr)) {
+      Pose Tf = Tc;
+      double fraction = 0;
+      OdometryResult retry = result;
+      if (match_rounds(map_, features, Tf, retry, &fraction) && fraction > first_fraction) {
+        retry.warnings.push_back(fmt::format(
+            "prior {:.2f} m / {:.1f} deg off: re-aligned on the coarse map",
+            (Tf.translation() - prior.translation()).norm(),
+            Eigen::AngleAxisd(Tf.linear() * prior.linear().transpose()).angle() * 180 / M_PI));
+        result = std::move(retry);
+        T = Tf;
+        ok = true;
+      }
+    }
+  }
+  if (!ok) {
+    result.warnings.push_back(
+        fmt::format("{} feature matches (< {}): too few features, pose from the motion prior",
+                    result.inliers, config_.min_matches));
+    result.registered = false;
+    result.T_world_lidar = prior;
+    return;
+  }
+  result.T_world_lidar = T;
+}
+
+bool LidarOdometry::match_rounds(const LocalMap& map, const Features& features, Pose& T,
+                                 OdometryResult& result, double* first_fraction) const {
+  std::vector<Correspondence> matches;
+  // Each query's match and where (world) it was looked up: a query that moved less than
+  // reassociate_m since keeps its line or plane (a miss stays a miss).
+  const std::size_t n_edges = features.edges.size();
+  const std::size_t n = n_edges + features.planes.size();
+  std::vector<std::optional<Correspondence>> cache(n);
+  std::vector<Eigen::Vector3f> looked_up(n);
+  const float reassociate2 = float(config_.reassociate_m * config_.reassociate_m);
+  bool registered = false;
+  for (int round = 0; round < config_.max_associations; ++round) {
+    matches.clear();
+    const Eigen::Matrix3f R = T.linear().cast<float>();
+    const Eigen::Vector3f tr = T.translation().cast<float>();
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool edge = i < n_edges;
+      const Eigen::Vector3f& p = edge ? features.edges[i] : features.planes[i - n_edges];
+      const Eigen::Vector3f q = R * p + tr;
+      if (round == 0 || (q - looked_up[i]).squaredNorm() > reassociate2) {
+        cache[i] = edge ? map.match_edge(q) : map.match_plane(q);
+        looked_up[i] = q;
+      }
+      if (cache[i]) {
+        matches.push_back(*cache[i]);
+        matches.back().point_lidar = p.cast<double>();
+      }
+    }
+    if (round == 0 && first_fraction)
+      *first_fraction = n > 0 ? double(matches.size()) / double(n) : 0.0;
+    result.inliers = matches.size();
+    if (int(matches.size()) < config_.min_matches) return registered;
+    const LmResult lm = solve_lm(matches, T, config_.lm);
+    result.iterations += lm.iterations;
+    result.degenerate = lm.degenerate;
+    result.eigenvalues = lm.eigenvalues;
+    const Pose step = lm.T_world_lidar * T.inverse();
+    T = lm.T_world_lidar;
+    registered = true;
+    result.registered = true;
+    if (step.translation().norm() < config_.convergence_m &&
+        Eigen::AngleAxisd(step.linear()).angle() < config_.convergence_m) {
+      result.converged = true;
+      break;
+    }
+  }
+  return registered;
+}
+
+void LidarOdometry::update_map(const Features& features, const Pose& T_world_lidar) {
+  if (!config_.update_map) return;
+  if (config_.target == MatchTarget::kPreviousFrame) map_.clear();
+  map_.insert(to_world(features.edge_candidates, T_world_lidar),
+              to_world(features.plane_candidates, T_world_lidar));
+  if (frames_ % 10 == 0) map_.crop(T_world_lidar.translation());
+}
+
+}  // namespace fieldlidar::odometry

@@ -1,0 +1,176 @@
+// seed 002, step e / LOAM mapping: a voxel hash of world points, bounded by voxel capacity and by
+// range around the robot, with line and plane fits over the nearest points.
+
+#include "fieldlidar/odometry/local_map.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+namespace fieldlidar::odometry {
+
+VoxelMap::Key VoxelMap::key_of(const Eigen::Vector3f& p) const {
+  const float inv = float(1.0 / config_.voxel_m);
+  return {std::int32_t(std::floor(p.x() * inv)), std::int32_t(std::floor(p.y() * inv)),
+          std::int32_t(std::floor(p.z() * inv))};
+}
+
+void VoxelMap::insert(std::span<const Eigen::Vector3f> points_world) {
+  const float min2 = float(config_.min_point_spacing_m * config_.min_point_spacing_m);
+  for (const auto& p : points_world) {
+    if (!p.allFinite()) continue;
+    auto& v = voxels_[key_of(p)];
+    if (int(v.size()) >= config_.max_points_per_voxel) continue;
+    bool near = false;
+    for (const auto& q : v)
+      if ((q - p).squaredNorm() < min2) {
+        near = true;
+        break;
+      }
+    if (!near) v.push_back(p);
+  }
+}
+
+void VoxelMap::crop(const Eigen::Vector3d& centre_world) {
+  const double r2 = config_.max_range_m * config_.max_range_m;
+  const Eigen::Vector3f c = centre_world.cast<float>();
+  std::erase_if(voxels_, [&](const auto& kv) {
+    return kv.second.empty() || double((kv.second.front() - c).squaredNorm()) > r2;
+  });
+}
+
+std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
+                              std::vector<Eigen::Vector3f>& out) const {
+  // The k nearest among the 8 voxels nearest the query, by insertion into a short sorted list.
+  const int k = std::clamp(config_.neighbours, 1, 16);
+  const float max2 = float(config_.max_neighbour_distance_m * config_.max_neighbour_distance_m);
+  std::array<std::pair<float, Eigen::Vector3f>, 16> best;
+  int n = 0;
+  const Key c = key_of(query);
+  const float inv = float(1.0 / config_.voxel_m);
+  const int sx = query.x() * inv - float(c.x) < 0.5f ? -1 : 1;
+  const int sy = query.y() * inv - float(c.y) < 0.5f ? -1 : 1;
+  const int sz = query.z() * inv - float(c.z) < 0.5f ? -1 : 1;
+  for (int dx = 0; dx <= 1; ++dx)
+    for (int dy = 0; dy <= 1; ++dy)
+      for (int dz = 0; dz <= 1; ++dz) {
+        const auto it = voxels_.find({c.x + dx * sx, c.y + dy * sy, c.z + dz * sz});
+        if (it == voxels_.end()) continue;
+        for (const auto& p : it->second) {
+          const float d2 = (p - query).squaredNorm();
+          if (d2 > max2 || (n == k && d2 >= best[n - 1].first)) continue;
+          int j = n < k ? n++ : n - 1;
+          while (j > 0 && best[j - 1].first > d2) {
+            best[j] = best[j - 1];
+            --j;
+          }
+          best[j] = {d2, p};
+        }
+      }
+  out.clear();
+  for (int i = 0; i < n; ++i) out.push_back(best[i].second);
+  return out.size();
+}
+
+std::size_t VoxelMap::size() const {
+  std::size_t n = 0;
+  for (const auto& kv : voxels_) n += kv.second.size();
+  return n;
+}
+
+std::vector<Eigen::Vector3f> VoxelMap::points() const {
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(size());
+  for (const auto& kv : voxels_) out.insert(out.end(), kv.second.begin(), kv.second.end());
+  return out;
+}
+
+void LocalMap::insert(std::span<const Eigen::Vector3f> edges_world,
+                      std::span<const Eigen::Vector3f> planes_world) {
+  edges_.insert(edges_world);
+  planes_.insert(planes_world);
+}
+
+void LocalMap::crop(const Eigen::Vector3d& centre_world) {
+  edges_.crop(centre_world);
+  planes_.crop(centre_world);
+}
+
+void LocalMap::clear() {
+  edges_.clear();
+  planes_.clear();
+}
+
+namespace {
+
+struct Fit {
+  Eigen::Vector3d mean;
+  Eigen::Matrix3d vectors;  ///< columns, ascending eigenvalue
+  Eigen::Vector3d values;
+};
+
+Fit fit(const std::vector<Eigen::Vector3f>& pts) {
+  Fit f;
+  f.mean.setZero();
+  for (const auto& p : pts) f.mean += p.cast<double>();
+  f.mean /= double(pts.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : pts) {
+    const Eigen::Vector3d d = p.cast<double>() - f.mean;
+    cov.noalias() += d * d.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(cov / double(pts.size()));
+  f.vectors = eig.eigenvectors();
+  f.values = eig.eigenvalues();
+  return f;
+}
+
+thread_local std::vector<Eigen::Vector3f> scratch;
+
+}  // namespace
+
+std::optional<Correspondence> LocalMap::match_edge(const Eigen::Vector3f& point_world) const {
+  if (edges_.nearest(point_world, scratch) < std::size_t(config_.neighbours)) return std::nullopt;
+  const Fit f = fit(scratch);
+  if (f.values(2) < config_.min_line_ratio * f.values(1)) return std::nullopt;
+  return Correspondence{Eigen::Vector3d::Zero(), f.mean, f.vectors.col(2), true};
+}
+
+std::optional<Correspondence> LocalMap::match_plane(const Eigen::Vector3f& point_world) const {
+  if (planes_.nearest(point_world, scratch) < std::size_t(config_.neighbours)) return std::nullopt;
+  const Fit f = fit(scratch);
+  if (f.values(1) < config_.min_plane_spread * f.values(2)) return std::nullopt;
+  if (config_.max_plane_thickness_m > 0 &&
+      f.values(0) > config_.max_plane_thickness_m * config_.max_plane_thickness_m)
+    return std::nullopt;
+  const Eigen::Vector3d n = f.vectors.col(0);
+  for (const auto& p : scratch)
+    if (std::abs(n.dot(p.cast<double>() - f.mean)) > config_.max_plane_distance_m)
+      return std::nullopt;
+  return Correspondence{Eigen::Vector3d::Zero(), f.mean, n, false};
+}
+
+PointCloud LocalMap::to_cloud() const {
+  PointCloud cloud;
+  cloud.fields.intensity = true;
+  for (const auto& p : edges_.points()) cloud.push_back({p.x(), p.y(), p.z(), 1.f});
+  for (const auto& p : planes_.points()) cloud.push_back({p.x(), p.y(), p.z(), 0.f});
+  cloud.width = std::uint32_t(cloud.size());
+  return cloud;
+}
+
+LocalMap LocalMap::from_cloud(const PointCloud& cloud, const LocalMapConfig& config) {
+  LocalMap map(config);
+  std::vector<Eigen::Vector3f> e, p;
+  for (const auto& q : cloud.points) {
+    if (!q.is_valid()) continue;
+    (q.intensity == 1.f ? e : p).push_back(q.xyz());
+  }
+  map.insert(e, p);
+  return map;
+}
+
+}  // namespace fieldlidar::odometry

@@ -1,0 +1,46 @@
+// fieldlidar odometry on a short simulated greenhouse folder: outputs, overwrite refusal, and
+// localisation in the map it wrote.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "run_cli.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar {
+namespace {
+
+TEST(CliOdometry, SimulatorFolderWritesPosesMapAndSummary) {
+  const auto dir = test::temp_dir("cli_odometry");
+  const auto sim = dir / "sim", out = dir / "out", loc = dir / "loc";
+  auto r = test::run_cli("simulate --scene greenhouse --frames 15 --out " + sim.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = test::run_cli("odometry " + sim.string() + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* f : {"poses.txt", "poses_tum.txt", "map.pcd", "map.png", "summary.json"})
+    EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
+  std::ifstream in(out / "summary.json");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const auto s = nlohmann::json::parse(ss.str());
+  EXPECT_EQ(s["frames"].get<int>(), 15);
+  EXPECT_EQ(s["unregistered_frames"].get<int>(), 0);
+  EXPECT_GT(s["map_points"].get<int>(), 1000);
+  // Never overwrites without --force.
+  r = test::run_cli("odometry " + sim.string() + " --out " + out.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("exists"), std::string::npos) << r.output;
+  // Localisation in the saved map.
+  r = test::run_cli("odometry " + sim.string() + " --map-in " + (out / "map.pcd").string() +
+                    " --initial-pose 0.3 0 0 0 0 5 --out " + loc.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+}
+
+}  // namespace
+}  // namespace fieldlidar
