@@ -28,16 +28,8 @@ namespace fs = std::filesystem;
 /// Runs fieldlidar ARGS with the size of any file it writes limited to `kib` KiB (RLIMIT_FSIZE,
 /// SIGXFSZ ignored): a write past it fails with EFBIG, as on a full disk.
 test::CliResult run_limited(int kib, const std::string& args) {
-  test::CliResult r;
-  const std::string cmd = "bash -c \"trap '' XFSZ; ulimit -f " + std::to_string(kib) + "; exec " +
-                          std::string(FIELDLIDAR_CLI) + " " + args + "\" 2>&1";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return test::run_shell("bash -c \"trap '' XFSZ; ulimit -f " + std::to_string(kib) + "; exec " +
+                         std::string(FIELDLIDAR_CLI) + " " + args + "\" 2>&1");
 }
 
 std::vector<std::string> files_in(const fs::path& dir) {

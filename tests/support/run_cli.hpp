@@ -23,11 +23,10 @@ inline std::string quoted(const std::filesystem::path& p) {
   return s.str();
 }
 
-/// Runs `fieldlidar ARGS` (ARGS is shell-quoted by the caller) and returns its exit code and
-/// output.
-inline CliResult run_cli(const std::string& args) {
+/// Runs the shell command `cmd` (stderr should be sent to stdout by the caller: `2>&1`) and
+/// returns its exit code and output.
+inline CliResult run_shell(const std::string& cmd) {
   CliResult r;
-  const std::string cmd = std::string(FIELDLIDAR_CLI) + " " + args + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return r;
   std::array<char, 4096> buf{};
@@ -35,6 +34,12 @@ inline CliResult run_cli(const std::string& args) {
   const int status = ::pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+/// Runs `fieldlidar ARGS` (ARGS is shell-quoted by the caller) and returns its exit code and
+/// output.
+inline CliResult run_cli(const std::string& args) {
+  return run_shell(std::string(FIELDLIDAR_CLI) + " " + args + " 2>&1");
 }
 
 }  // namespace fieldlidar::test
