@@ -88,8 +88,8 @@ std::optional<Candidate> tree_from_stack(const PointCloud& cloud,
   if (z_low - zg > c.max_base_height_m) return std::nullopt;
   t.base_m = axis_at_z(zg);
   t.axis = a;
-  // Cross-section around breast height, in the plane perpendicular to the axis.
   const Eigen::Vector3d e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+  // Cross-section around breast height, in the plane perpendicular to the axis.
   std::vector<Eigen::Vector2d> ring_all, ring_dbh;
   double h_min = 1e30, h_max = -1e30;
   std::size_t lines_dbh = 0;
@@ -110,11 +110,22 @@ std::optional<Candidate> tree_from_stack(const PointCloud& cloud,
     }
     lines_dbh += in_window;
   }
-  const auto& ring = (ring_dbh.size() >= 6 && lines_dbh >= 1) ? ring_dbh : ring_all;
-  const Circle circle = fit_circle(ring, c.min_radius_m, c.max_radius_m, 20);
+  std::vector<Eigen::Vector2d> ring = (ring_dbh.size() >= 6 && lines_dbh >= 1) ? ring_dbh : ring_all;
+  Circle circle = fit_circle(ring, c.min_radius_m, c.max_radius_m, 20);
+  // Trim returns off the circle (twigs, mixed edge returns) and refit.
+  for (int it = 0; it < 3 && circle.ok; ++it) {
+    std::vector<Eigen::Vector2d> kept;
+    const double thr = std::max(0.01, 2.5 * circle.residual_m);
+    for (const auto& q : ring)
+      if (std::abs((q - circle.center).norm() - circle.radius_m) <= thr) kept.push_back(q);
+    if (kept.size() == ring.size() || kept.size() < 6) break;
+    ring = std::move(kept);
+    circle = fit_circle(ring, c.min_radius_m, c.max_radius_m, 20);
+  }
   if (!circle.ok || circle.residual_m > c.max_residual_m) return std::nullopt;
   t.arc_deg = arc_coverage_deg(ring, circle.center);
   if (t.arc_deg < c.min_arc_deg) return std::nullopt;
+  if (h_max - h_min < c.min_extent_seen_m) return std::nullopt;
   t.base_m += e1 * circle.center.x() + e2 * circle.center.y();
   t.dbh_m = 2 * circle.radius_m;
   t.residual_m = circle.residual_m;

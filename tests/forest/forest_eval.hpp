@@ -2,6 +2,7 @@
 // Detection and DBH scores of forest::extract_trees on simulated forest frames.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <vector>
 
@@ -73,6 +74,9 @@ inline void score_frame(const sim::Scene& scene, const sim::SimFrame& frame,
     s.dbh_sq += e * e;
     s.dbh_sum += e;
     s.pos_sq += best_d * best_d;
+    if (std::getenv("FOREST_DEBUG"))
+      std::printf("    dbh %.3f true %.3f arc %.0f res %.4f obs %zu range %.1f\n", d.dbh_m, best->dbh,
+                  d.arc_deg, d.residual_m, d.observations, (p - sensor).head<2>().norm());
   }
 }
 

@@ -88,7 +88,8 @@ struct TreeConfig {
   double max_radius_m = 0.6;
   double max_tilt_deg = 30.0;     ///< axes leaning more than this are not trunks
   double max_residual_m = 0.03;   ///< trees whose stem fit is worse are dropped
-  double min_arc_deg = 30.0;      ///< and those seen over a narrower arc
+  double min_arc_deg = 90.0;      ///< and those seen over a narrower arc
+  double min_extent_seen_m = 1.0; ///< and those whose stem points span less height
   double dbh_height_m = 1.3;      ///< above the ground
   double dbh_window_m = 0.5;      ///< points within this (along the axis) of DBH height fit it
   double max_base_height_m = 3.0; ///< the lowest segment must be within this of the ground
