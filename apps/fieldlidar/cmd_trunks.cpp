@@ -102,7 +102,8 @@ void run(const TrunksOptions& o) {
                         o.force);
   draw(cloud, ground.is_ground, result.trees, out / "trees.png", o.force);
   fmt::print("{}: {} points ({}), {} ground; {} scan segments, {} stacks, {} trees -> {}\n",
-             o.input, cloud.size(), sweep ? "sweep, rings" : "plot, slices", ground.ground_count,
+             o.input, cloud.size(), fmt::format("{}, {}", sweep ? "sweep" : "plot",
+                                               cloud.fields.ring ? "rings" : "horizontal slices"), ground.ground_count,
              result.segments, result.stacks, result.trees.size(), out.string());
 }
 
