@@ -1,0 +1,127 @@
+#pragma once
+/// \file Tree trunks from one scan or plot cloud (seed 003, steps 1-3): scan-line segments,
+/// trunk stacks, circle and axis fits, one record per tree with DBH and a quality record.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/core/point_cloud.hpp"
+
+namespace fieldlidar::forest {
+
+/// Step 1: cutting scan lines into segments.
+struct ScanSegmentConfig {
+  double max_azimuth_gap_deg = 1.0;  ///< a wider gap between neighbours means a missed return
+  double max_point_gap_m = 0.12;     ///< neighbours farther apart (3D) are cut apart
+  double max_radius_m = 0.6;         ///< U: segments wider than 2U (a half cylinder) are dropped
+  std::size_t min_points = 3;
+  double min_range_m = 0.5;   ///< returns nearer than this (the robot) are ignored
+  double max_range_m = 40.0;  ///< and farther than this
+  /// Clouds with no ring field: horizontal slices of this thickness replace the scan lines; a
+  /// slice is cut into 2D clusters of points no farther apart than slice_link_m.
+  double slice_m = 0.15;
+  double slice_link_m = 0.08;
+};
+
+/// A run of neighbouring returns on one scan line (a ring, or one slice of a plot cloud).
+struct ScanSegment {
+  std::vector<std::uint32_t> indices;  ///< into the cloud
+  int line = 0;                        ///< ring or slice index
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double width_m = 0.0;  ///< end-to-end extent of its horizontal projection
+};
+
+/// Step 1. Points with `excluded[i] != 0` (ground) take no part; `excluded` may be empty.
+std::vector<ScanSegment> segment_scan_lines(const PointCloud& cloud,
+                                            std::span<const std::uint8_t> excluded,
+                                            const ScanSegmentConfig& config = {});
+
+/// Step 2: stacking segments into trunk candidates.
+struct StackConfig {
+  double max_offset_m = 0.25;  ///< horizontal distance of centroids on neighbouring lines
+  int max_line_gap = 3;        ///< lines skipped between two segments of one stack (occlusion)
+  double max_step_m = 1.5;     ///< vertical gap between stacked centroids
+  std::size_t min_segments = 3;
+  double min_extent_m = 0.4;  ///< vertical extent of the centroids
+};
+
+/// Indices into `segments` per stack, each ordered by line.
+std::vector<std::vector<std::size_t>> stack_segments(std::span<const ScanSegment> segments,
+                                                     const StackConfig& config = {});
+
+/// A circle in the horizontal plane.
+struct Circle {
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  double radius_m = 0.0;
+  double residual_m = 0.0;  ///< RMS of |distance to centre - radius|
+  bool ok = false;
+};
+
+/// Step 3: algebraic (Kasa) fit, refined by Gauss-Newton on the geometric distance with the
+/// radius clamped to [min_radius_m, max_radius_m]. Fewer than 3 points give ok = false.
+Circle fit_circle(std::span<const Eigen::Vector2d> points, double min_radius_m,
+                  double max_radius_m, int iterations = 10);
+
+/// Arc covered by points around a centre (deg): 360 less the widest angular gap.
+double arc_coverage_deg(std::span<const Eigen::Vector2d> points, const Eigen::Vector2d& center);
+
+/// A 3D line: point and unit direction (pointing up).
+struct Axis {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();
+  std::vector<std::size_t> inliers;  ///< indices of the centres kept
+  bool ok = false;
+};
+
+/// Line through circle centres (x, y at height z) by least squares x(z), y(z), dropping centres
+/// farther than max(reject_m, 2.5 sigma) from it and refitting. Needs two centres.
+Axis fit_axis(std::span<const Eigen::Vector3d> centres, double reject_m = 0.05,
+              int iterations = 5);
+
+struct TreeConfig {
+  ScanSegmentConfig segments;
+  StackConfig stacks;
+  double min_radius_m = 0.03;
+  double max_radius_m = 0.6;
+  double max_tilt_deg = 30.0;     ///< axes leaning more than this are not trunks
+  double max_residual_m = 0.03;   ///< trees whose stem fit is worse are dropped
+  double min_arc_deg = 90.0;      ///< and those seen over a narrower arc
+  double min_extent_seen_m = 1.0; ///< and those whose stem points span less height
+  double dbh_height_m = 1.3;      ///< above the ground
+  double dbh_window_m = 0.5;      ///< points within this (along the axis) of DBH height fit it
+  double max_base_height_m = 3.0; ///< the lowest segment must be within this of the ground
+  double ground_radius_m = 1.5;   ///< ground points within this of the axis give its base
+  double merge_distance_m = 0.3;  ///< stacks whose axes pass this close at DBH are one tree
+};
+
+/// One tree: straight trunk from its base on the ground.
+struct Tree {
+  std::uint32_t id = 0;
+  Eigen::Vector3d base_m = Eigen::Vector3d::Zero();  ///< axis point on the ground
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   ///< unit, up
+  double dbh_m = 0.0;
+  double z_min_seen_m = 0.0;  ///< visible height range along the axis above the base
+  double z_max_seen_m = 0.0;
+  double arc_deg = 0.0;       ///< arc of the stem seen around breast height
+  double residual_m = 0.0;    ///< RMS circle-fit residual there
+  std::size_t observations = 0;  ///< scan lines (segments) on the stem
+  bool ground_found = false;     ///< false: base from the lowest stem point
+  /// Axis point at `h` metres above the base.
+  Eigen::Vector3d at_height(double h) const { return base_m + axis * (h / axis.z()); }
+};
+
+struct TreeResult {
+  std::vector<Tree> trees;
+  std::size_t segments = 0;  ///< scan segments kept by step 1
+  std::size_t stacks = 0;    ///< stacks kept by step 2
+};
+
+/// Steps 1-3 and the per-tree record. `is_ground` (one flag per point, e.g. from
+/// segmentation::segment_ground) excludes ground from the segments and places each base.
+TreeResult extract_trees(const PointCloud& cloud, std::span<const std::uint8_t> is_ground,
+                         const TreeConfig& config = {});
+
+}  // namespace fieldlidar::forest

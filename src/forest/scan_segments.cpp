@@ -1,0 +1,141 @@
+// Step 1 of seed 003: each scan line cut into segments of neighbouring returns; wide ones dropped.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <unordered_map>
+
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/forest/trunks.hpp"
+
+namespace fieldlidar::forest {
+namespace {
+
+bool usable(const Point& p, std::span<const std::uint8_t> excluded, std::size_t i,
+            const ScanSegmentConfig& c, bool ranged) {
+  if (!p.is_valid() || (!excluded.empty() && excluded[i])) return false;
+  if (!ranged) return true;  // a plot file: coordinates are not sensor-centred
+  const double r = std::hypot(p.x, p.y);
+  return r >= c.min_range_m && r <= c.max_range_m;
+}
+
+void finish(const PointCloud& cloud, ScanSegment&& seg, const ScanSegmentConfig& c,
+            std::vector<ScanSegment>& out) {
+  if (seg.indices.size() < c.min_points) return;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Vector2d lo(1e30, 1e30), hi(-1e30, -1e30);
+  for (auto i : seg.indices) {
+    const Eigen::Vector3d p = cloud.points[i].xyz().cast<double>();
+    sum += p;
+    lo = lo.cwiseMin(p.head<2>());
+    hi = hi.cwiseMax(p.head<2>());
+  }
+  seg.centroid = sum / double(seg.indices.size());
+  seg.width_m = (hi - lo).norm();
+  if (seg.width_m > 2.0 * c.max_radius_m) return;
+  out.push_back(std::move(seg));
+}
+
+// A ring: returns in azimuth order, cut at missed returns and at jumps.
+void segment_ring(const PointCloud& cloud, int ring, std::vector<std::uint32_t>& idx,
+                  const ScanSegmentConfig& c, std::vector<ScanSegment>& out) {
+  std::vector<std::pair<double, std::uint32_t>> order;
+  order.reserve(idx.size());
+  for (auto i : idx) order.emplace_back(std::atan2(cloud.points[i].y, cloud.points[i].x), i);
+  std::sort(order.begin(), order.end());
+  const double max_gap = c.max_azimuth_gap_deg * std::numbers::pi / 180.0;
+  ScanSegment seg;
+  seg.line = ring;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (k > 0) {
+      const auto& a = cloud.points[order[k - 1].second];
+      const auto& b = cloud.points[order[k].second];
+      const double gap = order[k].first - order[k - 1].first;
+      if (gap > max_gap || (a.xyz() - b.xyz()).norm() > c.max_point_gap_m) {
+        finish(cloud, std::move(seg), c, out);
+        seg = ScanSegment{};
+        seg.line = ring;
+      }
+    }
+    seg.indices.push_back(order[k].second);
+  }
+  finish(cloud, std::move(seg), c, out);
+}
+
+// A horizontal slice of an unorganised cloud: 2D clusters by a grid of slice_link_m cells.
+void segment_slice(const PointCloud& cloud, int line, const std::vector<std::uint32_t>& idx,
+                   const ScanSegmentConfig& c, std::vector<ScanSegment>& out) {
+  const double cell = c.slice_link_m;
+  auto key = [](std::int64_t x, std::int64_t y) { return (x << 32) ^ (y & 0xffffffff); };
+  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> grid;
+  grid.reserve(idx.size());
+  for (auto i : idx)
+    grid[key(std::int64_t(std::floor(cloud.points[i].x / cell)),
+             std::int64_t(std::floor(cloud.points[i].y / cell)))]
+        .push_back(i);
+  std::unordered_map<std::int64_t, bool> seen;
+  for (const auto& [k0, pts0] : grid) {
+    if (seen[k0]) continue;
+    ScanSegment seg;
+    seg.line = line;
+    std::vector<std::int64_t> todo{k0};
+    seen[k0] = true;
+    while (!todo.empty()) {
+      const auto k = todo.back();
+      todo.pop_back();
+      const auto& pts = grid[k];
+      seg.indices.insert(seg.indices.end(), pts.begin(), pts.end());
+      const auto& p = cloud.points[pts.front()];
+      const auto cx = std::int64_t(std::floor(p.x / cell)), cy = std::int64_t(std::floor(p.y / cell));
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy) {
+          const auto n = key(cx + dx, cy + dy);
+          if (grid.count(n) && !seen[n]) {
+            seen[n] = true;
+            todo.push_back(n);
+          }
+        }
+    }
+    finish(cloud, std::move(seg), c, out);
+  }
+}
+
+}  // namespace
+
+std::vector<ScanSegment> segment_scan_lines(const PointCloud& cloud,
+                                            std::span<const std::uint8_t> excluded,
+                                            const ScanSegmentConfig& config) {
+  if (!excluded.empty() && excluded.size() != cloud.size())
+    throw Error("forest: exclusion flags (" + std::to_string(excluded.size()) +
+                ") do not match the cloud (" + std::to_string(cloud.size()) + " points)");
+  if (!(config.slice_m > 0) || !(config.slice_link_m > 0) || !(config.max_radius_m > 0))
+    throw Error("forest: slice_m, slice_link_m and max_radius_m must be > 0");
+  std::vector<ScanSegment> out;
+  const bool rings = cloud.fields.ring && cloud.ring_count() > 0;
+  std::unordered_map<int, std::vector<std::uint32_t>> lines;
+  double z0 = 1e30;
+  if (!rings)
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+      if (usable(cloud.points[i], excluded, i, config, false)) z0 = std::min(z0, double(cloud.points[i].z));
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const auto& p = cloud.points[i];
+    if (!usable(p, excluded, i, config, rings)) continue;
+    if (rings) {
+      if (p.ring == Point::kNoRing) continue;
+      lines[p.ring].push_back(std::uint32_t(i));
+    } else {
+      lines[int((p.z - z0) / config.slice_m)].push_back(std::uint32_t(i));
+    }
+  }
+  std::vector<int> keys;
+  for (const auto& [k, v] : lines) keys.push_back(k);
+  std::sort(keys.begin(), keys.end());
+  for (int k : keys) {
+    if (rings)
+      segment_ring(cloud, k, lines[k], config, out);
+    else
+      segment_slice(cloud, k, lines[k], config, out);
+  }
+  return out;
+}
+
+}  // namespace fieldlidar::forest

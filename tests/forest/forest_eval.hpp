@@ -1,0 +1,108 @@
+#pragma once
+// Detection and DBH scores of forest::extract_trees on simulated forest frames.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <vector>
+
+#include "fieldlidar/core/labels.hpp"
+#include "fieldlidar/forest/trunks.hpp"
+#include "fieldlidar/segmentation/ground.hpp"
+#include "fieldlidar/sim/lidar_simulator.hpp"
+#include "fieldlidar/sim/motion.hpp"
+#include "fieldlidar/sim/scenes.hpp"
+
+namespace fieldlidar::forest::test {
+
+struct Scores {
+  int truth = 0, detected = 0, matched = 0;
+  double dbh_sq = 0, dbh_sum = 0, pos_sq = 0;
+  double recall() const { return truth ? double(matched) / truth : 1.0; }
+  double precision() const { return detected ? double(matched) / detected : 1.0; }
+  double dbh_rmse() const { return matched ? std::sqrt(dbh_sq / matched) : 0.0; }
+  double dbh_bias() const { return matched ? dbh_sum / matched : 0.0; }
+  double pos_rmse() const { return matched ? std::sqrt(pos_sq / matched) : 0.0; }
+  void print(const char* name) const {
+    std::printf("%s: truth %d detected %d matched %d recall %.3f precision %.3f DBH RMSE %.4f m "
+                "bias %+.4f m position RMSE %.4f m\n",
+                name, truth, detected, matched, recall(), precision(), dbh_rmse(), dbh_bias(),
+                pos_rmse());
+  }
+};
+
+/// A true tree is scored when its stem at 1.3 m lies within `range_m` of the sensor and the frame
+/// holds at least `min_hits` returns labelled with it (not fully occluded). A detection matches
+/// the nearest unmatched scored tree within `match_m` at 1.3 m; detections beyond range_m + 1 m
+/// are not scored; one matching an unscored (occluded) tree is neither right nor wrong.
+inline void score_frame(const sim::Scene& scene, const sim::SimFrame& frame,
+                        const std::vector<Tree>& trees, Scores& s, double range_m = 15.0,
+                        double match_m = 0.5, int min_hits = 20) {
+  std::map<std::uint16_t, int> hits;
+  for (auto l : frame.cloud.labels)
+    if (label_class(l) == LabelClass::kTrunk) ++hits[label_instance(l)];
+  const Pose T = frame.T_world_lidar_start;
+  const Eigen::Vector3d sensor = T.translation();
+  struct Truth { Eigen::Vector2d xy; double dbh; bool scored; bool used = false; };
+  std::vector<Truth> truth;
+  for (const auto& t : scene.trunks()) {
+    const Eigen::Vector3d p = t.base_m + t.axis * (1.3 / t.axis.z());
+    const bool near = (p - sensor).head<2>().norm() <= range_m;
+    if ((p - sensor).head<2>().norm() > range_m + 2.0) continue;
+    truth.push_back({p.head<2>(), t.dbh_m, near && hits[t.id] >= min_hits});
+    s.truth += truth.back().scored;
+  }
+  for (const auto& d : trees) {
+    const Eigen::Vector3d p = T * d.at_height(1.3);
+    if ((p - sensor).head<2>().norm() > range_m + 1.0) continue;
+    Truth* best = nullptr;
+    double best_d = match_m;
+    for (auto& t : truth)
+      if (!t.used && (t.xy - p.head<2>()).norm() < best_d) {
+        best_d = (t.xy - p.head<2>()).norm();
+        best = &t;
+      }
+    if (best && !best->scored) {
+      best->used = true;
+      continue;
+    }
+    ++s.detected;
+    if (!best) continue;
+    best->used = true;
+    ++s.matched;
+    const double e = d.dbh_m - best->dbh;
+    s.dbh_sq += e * e;
+    s.dbh_sum += e;
+    s.pos_sq += best_d * best_d;
+    if (std::getenv("FOREST_DEBUG"))
+      std::printf("    dbh %.3f true %.3f arc %.0f res %.4f obs %zu range %.1f\n", d.dbh_m, best->dbh,
+                  d.arc_deg, d.residual_m, d.observations, (p - sensor).head<2>().norm());
+  }
+}
+
+/// `frames` static scans along the scene's route of forest `seed` (every 3 s of a 0.8 m/s drive).
+inline Scores run_frames(std::uint64_t seed, const SensorModel& sensor, int frames,
+                         const TreeConfig& config = {}, bool verbose = false) {
+  const sim::Scene scene = sim::make_forest_scene({}, seed);
+  const auto motion = sim::drive_scene_route(scene, 3.0 * frames + 1.0);
+  const sim::LidarSimulator simulator(scene, sensor);
+  Scores s;
+  for (int f = 0; f < frames; ++f) {
+    const double t = 3.0 * f;
+    const auto frame = simulator.scan(t, motion.lidar_pose_fn()(t));
+    const auto ground = segmentation::segment_ground(frame.cloud, sensor);
+    const auto result = extract_trees(frame.cloud, ground.is_ground, config);
+    Scores one;
+    score_frame(scene, frame, result.trees, one);
+    if (verbose) one.print("  frame");
+    s.truth += one.truth;
+    s.detected += one.detected;
+    s.matched += one.matched;
+    s.dbh_sq += one.dbh_sq;
+    s.dbh_sum += one.dbh_sum;
+    s.pos_sq += one.pos_sq;
+  }
+  return s;
+}
+
+}  // namespace fieldlidar::forest::test
