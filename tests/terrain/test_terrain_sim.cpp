@@ -81,11 +81,22 @@ void print(const char* name, const Score& s) {
 
 }  // namespace
 
+// Measured (seeds 11/12, 5 frames each, cells within 15 m): default impassable recall
+// 0.73/0.78, passable precision 0.95/0.93, slope RMSE 4.3/4.8 deg, coverage 0.26/0.23; the
+// seed's method 0.64/0.71, 0.93/0.91, 6.7/8.8 deg. Nothing was tuned on these seeds.
 TEST(TerrainSim, SingleVlp16FramesAgainstTruth) {
   for (std::uint64_t seed : {11u, 12u}) {
     const Score ours = single_frames({}, seed, 5, 15.0);
     const Score seed004 = single_frames(seed004_config(), seed, 5, 15.0);
     print(("default seed " + std::to_string(seed)).c_str(), ours);
     print(("seed004 seed " + std::to_string(seed)).c_str(), seed004);
+    EXPECT_GT(ours.impassable_recall(), 0.70);
+    EXPECT_GT(ours.impassable_precision(), 0.85);
+    EXPECT_GT(ours.passable_precision(), 0.92);
+    EXPECT_GT(ours.accuracy(), 0.91);
+    EXPECT_GT(ours.coverage(), 0.2);
+    EXPECT_LT(ours.slope_rmse(), 5.5);
+    EXPECT_GE(ours.impassable_recall(), seed004.impassable_recall());
+    EXPECT_LT(ours.slope_rmse(), seed004.slope_rmse());
   }
 }
