@@ -1,0 +1,58 @@
+/// One scan or one surveyed area into the layered map.
+#include <cmath>
+#include <vector>
+
+#include "fieldlidar/terrain/traversability.hpp"
+
+namespace fieldlidar::terrain {
+
+Grid2D map_scan(const PointCloud& scan, const SensorModel& sensor, const Pose& T_map_lidar,
+                const TraversabilityConfig& config) {
+  voxel_height_m(config);  // validates the robot before any work
+  const Eigen::Vector3d sensor_m = T_map_lidar.translation();
+  const double r = config.max_range_m;
+  // Cell corners on multiples of cell_m, so that maps of successive scans share their cells.
+  const Eigen::Vector2d lo =
+      ((sensor_m.head<2>().array() - r) / config.cell_m).floor().matrix() * config.cell_m;
+  const GridGeometry geometry =
+      GridGeometry::covering(lo, sensor_m.head<2>() + Eigen::Vector2d(r, r), config.cell_m);
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::uint8_t> ground;
+  if (scan.valid_count() > 0) {
+    const auto g = segmentation::segment_ground(scan, sensor, config.ground);
+    pts.reserve(scan.size());
+    ground.reserve(scan.size());
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      const Point& p = scan.points[i];
+      if (!p.is_valid()) continue;
+      const Eigen::Vector3d q = T_map_lidar * p.xyz().cast<double>();
+      if ((q.head<2>() - sensor_m.head<2>()).norm() > r) continue;
+      pts.push_back(q);
+      ground.push_back(g.is_ground[i]);
+    }
+  }
+  return build_layers(pts, ground, geometry, config);
+}
+
+Grid2D map_area(const PointCloud& cloud, const TraversabilityConfig& config) {
+  voxel_height_m(config);
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::uint8_t> ground;
+  Bounds3 b;
+  if (cloud.valid_count() > 0) {
+    const auto g = segmentation::ground_grid(cloud, config.ground.grid);
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const Point& p = cloud.points[i];
+      if (!p.is_valid()) continue;
+      pts.push_back(p.xyz().cast<double>());
+      ground.push_back(g.is_ground[i]);
+      b.extend(pts.back());
+    }
+  }
+  const GridGeometry geometry =
+      b.empty() ? GridGeometry{.resolution_m = config.cell_m}
+                : GridGeometry::covering(b.min.head<2>(), b.max.head<2>(), config.cell_m);
+  return build_layers(pts, ground, geometry, config);
+}
+
+}  // namespace fieldlidar::terrain
