@@ -24,6 +24,7 @@
 #include "fieldlidar/odometry/lidar_odometry.hpp"
 #include "support/canvas.hpp"
 #include "support/sensor_choice.hpp"
+#include "support/warnings.hpp"
 
 namespace fieldlidar::app {
 
@@ -45,6 +46,27 @@ double proc_status_mb(const std::string& name) {
     if (line.rfind(name + ":", 0) == 0) return std::atof(line.c_str() + name.size() + 1) / 1024.0;
   return 0.0;
 }
+
+/// Consecutive frames with a degenerate direction (an aisle, a wall): one warning per stretch.
+struct DegenerateStretch {
+  std::size_t first = 0, last = 0;
+  double smallest = 0;
+  bool open = false;
+  void add(std::size_t frame, double eigenvalue) {
+    if (!open) first = frame, smallest = eigenvalue, open = true;
+    last = frame;
+    smallest = std::min(smallest, eigenvalue);
+  }
+  void flush() {
+    if (!open) return;
+    open = false;
+    fmt::print(stderr, "\r");
+    warn(
+        fmt::format("frames {}-{}: degenerate geometry, a direction weakly constrained "
+                    "(smallest eigenvalue {:.3g})",
+                    first, last, smallest));
+  }
+};
 
 /// The lidar's mount on the base from a simulator folder's scene.json (identity without one).
 Pose scene_base_lidar(const fs::path& folder) {
@@ -151,6 +173,7 @@ void run_odometry(const OdometryOptions& o) {
   Trajectory poses;
   std::size_t degenerate = 0, unregistered = 0, warnings = 0;
   std::vector<double> frame_ms;
+  DegenerateStretch stretch;
   double last_stamp = -1e300;
   const auto t_start = std::chrono::steady_clock::now();
   while (auto frame = source->next()) {
@@ -177,13 +200,15 @@ void run_odometry(const OdometryOptions& o) {
     if (times.empty() && cloud.stamp_s <= 0 && frame->index > 0)
       cloud.stamp_s = frame->index * cfg.expected_period_s;
     const auto r = odo->register_frame(cloud);
-    for (const auto& w : r.warnings) fmt::print(stderr, "warning: frame {}: {}\n", frame->index, w);
+    if (!r.warnings.empty()) fmt::print(stderr, "\r");  // over the progress line
+    for (const auto& w : r.warnings) warn(fmt::format("frame {}: {}", frame->index, w));
     warnings += r.warnings.size();
     degenerate += r.degenerate;
     unregistered += !r.registered && frame->index > 0;
     if (r.degenerate)
-      fmt::print(stderr, "warning: frame {}: degenerate geometry (smallest eigenvalue {:.3g})\n",
-                 frame->index, r.eigenvalues(0));
+      stretch.add(frame->index, r.eigenvalues(0));
+    else
+      stretch.flush();
     frame_ms.push_back(r.timings.total_ms);
     const double stamp = cloud.stamp_s > last_stamp ? cloud.stamp_s : last_stamp + 1e-6;
     last_stamp = stamp;
@@ -195,6 +220,7 @@ void run_odometry(const OdometryOptions& o) {
     fmt::print(stderr, "\rframe {} ({:.0f} %): {:.1f} ms, {} matches   ", frame->index,
                100 * source->progress(), r.timings.total_ms, r.inliers);
   }
+  stretch.flush();
   fmt::print(stderr, "\n");
   if (!odo) throw Error(o.input + ": no frame");
 
