@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -23,6 +24,7 @@
 #include "fieldlidar/odometry/lidar_odometry.hpp"
 #include "support/canvas.hpp"
 #include "support/sensor_choice.hpp"
+#include "support/warnings.hpp"
 
 namespace fieldlidar::app {
 
@@ -33,8 +35,53 @@ namespace fs = std::filesystem;
 struct OdometryOptions {
   std::string input, imu, odom, map_in, out, sensor;
   std::vector<double> initial_pose;  ///< x y z roll pitch yaw (m, deg) in the map
-  bool frame_to_frame = false, force = false;
+  bool frame_to_frame = false, lidar_only = false, force = false;
 };
+
+/// A line "Name:  value kB" of /proc/self/status in MB (0 where there is none, e.g. not Linux).
+double proc_status_mb(const std::string& name) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(name + ":", 0) == 0) return std::atof(line.c_str() + name.size() + 1) / 1024.0;
+  return 0.0;
+}
+
+/// Consecutive frames with a degenerate direction (an aisle, a wall): one warning per stretch.
+struct DegenerateStretch {
+  std::size_t first = 0, last = 0;
+  double smallest = 0;
+  bool open = false;
+  void add(std::size_t frame, double eigenvalue) {
+    if (!open) first = frame, smallest = eigenvalue, open = true;
+    last = frame;
+    smallest = std::min(smallest, eigenvalue);
+  }
+  void flush() {
+    if (!open) return;
+    open = false;
+    fmt::print(stderr, "\r");
+    warn(
+        fmt::format("frames {}-{}: degenerate geometry, a direction weakly constrained "
+                    "(smallest eigenvalue {:.3g})",
+                    first, last, smallest));
+  }
+};
+
+/// The lidar's mount on the base from a simulator folder's scene.json (identity without one).
+Pose scene_base_lidar(const fs::path& folder) {
+  Pose T = Pose::Identity();
+  std::ifstream in(folder / "scene.json");
+  if (!in) return T;
+  const auto scene = nlohmann::json::parse(in, nullptr, false);
+  if (scene.is_discarded() || !scene.contains("T_base_lidar_xyz_m")) return T;
+  const auto& xyz = scene["T_base_lidar_xyz_m"];
+  if (!xyz.is_array() || xyz.size() != 3)
+    throw Error((folder / "scene.json").string() + ": T_base_lidar_xyz_m needs 3 numbers");
+  T.translation() =
+      Eigen::Vector3d(xyz[0].get<double>(), xyz[1].get<double>(), xyz[2].get<double>());
+  return T;
+}
 
 /// Rows of numbers of a CSV file with a header line.
 std::vector<std::vector<double>> read_csv(const fs::path& path) {
@@ -110,19 +157,23 @@ void run_odometry(const OdometryOptions& o) {
   // A simulator folder: its PCD frames (ring and time), times, IMU and wheel streams.
   fs::path input(o.input), imu_path(o.imu), odom_path(o.odom);
   std::vector<double> times;
+  odometry::OdometryConfig cfg;
   if (fs::is_directory(input) && fs::exists(input / "imu.csv")) {
     if (imu_path.empty()) imu_path = input / "imu.csv";
     if (odom_path.empty() && fs::exists(input / "odom.csv")) odom_path = input / "odom.csv";
     if (fs::exists(input / "times.txt")) times = io::read_kitti_times(input / "times.txt");
+    cfg.deskew.T_base_lidar = scene_base_lidar(input);
     if (fs::is_directory(input / "pcd")) input = input / "pcd";
   }
+  if (o.lidar_only) imu_path.clear(), odom_path.clear();
   auto source = io::FrameSource::open(input);
-  odometry::OdometryConfig cfg;
   if (o.frame_to_frame) cfg.target = odometry::MatchTarget::kPreviousFrame;
+  nlohmann::json memory = nlohmann::json::array();
   std::unique_ptr<odometry::LidarOdometry> odo;
   Trajectory poses;
   std::size_t degenerate = 0, unregistered = 0, warnings = 0;
   std::vector<double> frame_ms;
+  DegenerateStretch stretch;
   double last_stamp = -1e300;
   const auto t_start = std::chrono::steady_clock::now();
   while (auto frame = source->next()) {
@@ -149,20 +200,27 @@ void run_odometry(const OdometryOptions& o) {
     if (times.empty() && cloud.stamp_s <= 0 && frame->index > 0)
       cloud.stamp_s = frame->index * cfg.expected_period_s;
     const auto r = odo->register_frame(cloud);
-    for (const auto& w : r.warnings) fmt::print(stderr, "warning: frame {}: {}\n", frame->index, w);
+    if (!r.warnings.empty()) fmt::print(stderr, "\r");  // over the progress line
+    for (const auto& w : r.warnings) warn(fmt::format("frame {}: {}", frame->index, w));
     warnings += r.warnings.size();
     degenerate += r.degenerate;
     unregistered += !r.registered && frame->index > 0;
     if (r.degenerate)
-      fmt::print(stderr, "warning: frame {}: degenerate geometry (smallest eigenvalue {:.3g})\n",
-                 frame->index, r.eigenvalues(0));
+      stretch.add(frame->index, r.eigenvalues(0));
+    else
+      stretch.flush();
     frame_ms.push_back(r.timings.total_ms);
     const double stamp = cloud.stamp_s > last_stamp ? cloud.stamp_s : last_stamp + 1e-6;
     last_stamp = stamp;
     poses.push_back(stamp, r.T_world_lidar);
+    if (poses.size() % 1000 == 0)
+      memory.push_back({{"frames", poses.size()},
+                        {"rss_mb", proc_status_mb("VmRSS")},
+                        {"map_points", odo->map().size()}});
     fmt::print(stderr, "\rframe {} ({:.0f} %): {:.1f} ms, {} matches   ", frame->index,
                100 * source->progress(), r.timings.total_ms, r.inliers);
   }
+  stretch.flush();
   fmt::print(stderr, "\n");
   if (!odo) throw Error(o.input + ": no frame");
 
@@ -185,6 +243,8 @@ void run_odometry(const OdometryOptions& o) {
                                   {"unregistered_frames", unregistered},
                                   {"warnings", warnings},
                                   {"map_points", map.size()},
+                                  {"memory_per_1000_frames", memory},
+                                  {"peak_rss_mb", proc_status_mb("VmHWM")},
                                   {"imu", imu_path.string()},
                                   {"wheels", odom_path.string()},
                                   {"map_in", o.map_in},
@@ -209,6 +269,8 @@ void add_odometry_command(CLI::App& app) {
       ->expected(6);
   cmd->add_option("--sensor", o->sensor, "Sensor preset when the input does not say");
   cmd->add_flag("--frame-to-frame", o->frame_to_frame, "Seed 002 matching against the last frame");
+  cmd->add_flag("--lidar-only", o->lidar_only,
+                "Ignore IMU and wheels (also those of a simulator folder)");
   cmd->add_option("-o,--out", o->out, "Output folder")->required();
   cmd->add_flag("-f,--force", o->force, "Replace existing output files");
   cmd->callback([o] { run_odometry(*o); });

@@ -71,6 +71,16 @@ void ring_curvature(const PointCloud& cloud, const std::vector<std::uint32_t>& i
     if (bad[k]) c[k] = -1.f;
 }
 
+/// Puts the `head` first elements of `order` by `before` at its front, in that order (ties by
+/// index): a selection in linear time, then a sort of the head only.
+template <class Before>
+void select_head(std::vector<int>& order, std::size_t head, Before before) {
+  const auto less = [&](int a, int b) { return before(a, b) || (!before(b, a) && a < b); };
+  if (head < order.size())
+    std::nth_element(order.begin(), order.begin() + long(head), order.end(), less);
+  std::sort(order.begin(), order.begin() + long(head), less);
+}
+
 }  // namespace
 
 std::vector<float> curvature(const PointCloud& cloud, std::span<const std::uint16_t> rings,
@@ -114,8 +124,7 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
       for (int k = b; k < e; ++k)
         if (c[k] >= C) order.push_back(k);
       const auto edge_head = std::min<std::size_t>(order.size(), 8 * config.edges_per_sector);
-      std::partial_sort(order.begin(), order.begin() + edge_head, order.end(),
-                        [&](int a, int b2) { return c[a] > c[b2]; });
+      select_head(order, edge_head, [&](int a, int b2) { return c[a] > c[b2]; });
       int taken = 0;
       for (std::size_t h = 0; h < edge_head; ++h) {
         const int k = order[h];
@@ -130,8 +139,7 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
       for (int k = b; k < e; ++k)
         if (c[k] >= 0 && c[k] < C) order.push_back(k);
       const auto head = std::min<std::size_t>(order.size(), 8 * config.planes_per_sector);
-      std::partial_sort(order.begin(), order.begin() + head, order.end(),
-                        [&](int a, int b2) { return c[a] < c[b2]; });
+      select_head(order, head, [&](int a, int b2) { return c[a] < c[b2]; });
       taken = 0;
       for (std::size_t h = 0; h < head && taken < config.planes_per_sector; ++h) {
         const int k = order[h];

@@ -1,14 +1,16 @@
 #pragma once
-// Test helpers: simulated sequences and trajectory errors (ATE after a rigid Umeyama alignment,
-// RPE per frame, drift over segments) computed here, independent of the code under test.
+// Test helpers: simulated sequences, and their trajectory errors by the core metrics (ATE after a
+// rigid Umeyama alignment, RPE per frame, drift over segments), which have tests of their own.
 
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "fieldlidar/core/pose.hpp"
+#include "fieldlidar/core/trajectory_metrics.hpp"
 #include "fieldlidar/odometry/lidar_odometry.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/motion.hpp"
@@ -54,6 +56,36 @@ inline SimSequence simulate_sequence(sim::SceneKind kind, int first, int frames,
   return s;
 }
 
+/// A handheld-like sweep: from the start of the scene's route the sensor walks forward at
+/// `speed_m_s` while its yaw swings by +-amplitude_deg with period_s; one sweep every
+/// `frame_step` sweep periods (a 2 Hz recording: 5), an IMU on the sensor, no wheels.
+inline SimSequence simulate_yaw_sweep(sim::SceneKind kind, int frames, int frame_step,
+                                      double amplitude_deg, double period_s, double speed_m_s,
+                                      SensorModel sensor = SensorModel::vlp16()) {
+  SimSequence s;
+  s.sensor = sensor;
+  const sim::Scene scene = sim::make_scene(kind, 0);
+  const Pose start = sim::drive_scene_route(scene, 1.0).T_world_lidar(0.0);
+  const double amplitude = amplitude_deg * 3.14159265358979 / 180;
+  const std::function<Pose(double)> pose = [=](double t) {
+    return start * make_pose(speed_m_s * t, 0, 0, 0, 0,
+                             amplitude * std::sin(2 * 3.14159265358979 * t / period_s));
+  };
+  sim::SimConfig cfg;
+  cfg.seed = 1;
+  const sim::LidarSimulator simulator(scene, sensor, cfg);
+  const double dt = frame_step * sensor.sweep_period_s();
+  for (int i = 0; i < frames; ++i) {
+    auto f = simulator.scan(i * dt, pose);
+    f.cloud.stamp_s = f.stamp_s;
+    s.frames.push_back(std::move(f.cloud));
+    s.truth.push_back(f.T_world_lidar_start);
+  }
+  for (const auto& m : sim::simulate_imu(pose, 0.0, frames * dt, {.seed = 7}))
+    s.imu.push_back({m.stamp_s, m.gyro_rad_s, m.accel_m_s2});
+  return s;
+}
+
 struct TrajectoryErrors {
   double ate_m = 0;      ///< RMSE after rigid alignment
   double rpe_t_m = 0;    ///< RMS per-frame translation error
@@ -63,50 +95,29 @@ struct TrajectoryErrors {
 };
 
 inline double angle_deg(const Eigen::Matrix3d& R) {
-  return Eigen::AngleAxisd(R).angle() * 180.0 / 3.14159265358979;
+  return rotation_angle_rad(R) * 180.0 / 3.14159265358979;
 }
 
-/// est and ref: poses of the same frames; segments of `segment_m` for the drift.
+/// est and ref: poses of the same frames, scored by the core metrics (evaluate_trajectory):
+/// ATE after a rigid (or similarity) alignment, RMS RPE per frame, the KITTI drift over
+/// sub-sequences of `segment_m` starting at every frame.
 inline TrajectoryErrors trajectory_errors(const std::vector<Pose>& est,
                                           const std::vector<Pose>& ref, double segment_m,
                                           bool with_scale = false) {
-  TrajectoryErrors e;
   const std::size_t n = std::min(est.size(), ref.size());
-  Eigen::Matrix3Xd A(3, n), B(3, n);
-  for (std::size_t i = 0; i < n; ++i) {
-    A.col(i) = est[i].translation();
-    B.col(i) = ref[i].translation();
-  }
-  const Eigen::Matrix4d T = Eigen::umeyama(A, B, with_scale);
-  double se = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    se +=
-        ((T.topLeftCorner<3, 3>() * A.col(i) + T.topRightCorner<3, 1>()) - B.col(i)).squaredNorm();
-  e.ate_m = std::sqrt(se / n);
-  double st = 0, sr = 0;
-  std::vector<double> dist(n, 0.0);
-  for (std::size_t i = 1; i < n; ++i) {
-    const Pose de = est[i - 1].inverse() * est[i], dr = ref[i - 1].inverse() * ref[i];
-    const Pose err = dr.inverse() * de;
-    st += err.translation().squaredNorm();
-    sr += std::pow(angle_deg(err.linear()), 2);
-    dist[i] = dist[i - 1] + dr.translation().norm();
-  }
-  e.rpe_t_m = n > 1 ? std::sqrt(st / (n - 1)) : 0;
-  e.rpe_r_deg = n > 1 ? std::sqrt(sr / (n - 1)) : 0;
-  e.path_m = dist.back();
-  double sum = 0;
-  int count = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    std::size_t j = i;
-    while (j < n && dist[j] - dist[i] < segment_m) ++j;
-    if (j >= n) break;
-    const Pose de = est[i].inverse() * est[j], dr = ref[i].inverse() * ref[j];
-    sum += (dr.inverse() * de).translation().norm() / (dist[j] - dist[i]);
-    ++count;
-  }
-  e.drift_pct = count ? 100.0 * sum / count : 0.0;
-  return e;
+  const std::vector<Pose> e(est.begin(), est.begin() + long(n)),
+      r(ref.begin(), ref.begin() + long(n));
+  TrajectoryMetricsConfig config;
+  config.segment_lengths_m = {segment_m};
+  config.segment_step_frames = 1;
+  const TrajectoryMetrics m = evaluate_trajectory(e, r, config);
+  TrajectoryErrors out;
+  out.ate_m = (with_scale ? m.ate_sim3 : m.ate_se3).translation_m.rmse;
+  out.rpe_t_m = m.rpe.translation_m.rmse;
+  out.rpe_r_deg = m.rpe.rotation_deg.rmse;
+  out.drift_pct = m.drift.translation_pct;
+  out.path_m = m.reference_path_m;
+  return out;
 }
 
 /// Runs the odometry over a simulated sequence; poses relative to the first truth pose.
