@@ -1,0 +1,67 @@
+// End-to-end: fieldlidar trunks on a real pine plot (terrestrial scan, no rings).
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_cli.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar::test {
+namespace {
+
+std::vector<std::vector<double>> csv_rows(const std::filesystem::path& p, std::string& header) {
+  std::ifstream in(p);
+  std::getline(in, header);
+  std::vector<std::vector<double>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::stringstream s(line);
+    std::vector<double>& r = rows.emplace_back();
+    for (std::string cell; std::getline(s, cell, ',');) r.push_back(std::stod(cell));
+  }
+  return rows;
+}
+
+TEST(CliTrunks, PinePlotTreesWithPlausibleDiametersAndNoOverwrite) {
+  FIELDLIDAR_REQUIRE_DATA("forest_tls/pine_plot.las");
+  const auto dir = temp_dir("cli_trunks");
+  const auto out = dir / "trees";
+  const std::string cmd = "trunks " + quoted(data_file("forest_tls/pine_plot.las")) + " --out ";
+  auto r = run_cli(cmd + quoted(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string header;
+  const auto rows = csv_rows(out / "trees.csv", header);
+  EXPECT_EQ(header,
+            "id,x_m,y_m,z_base_m,dbh_m,axis_x,axis_y,axis_z,height_seen_m,arc_deg,residual_m,"
+            "observations");
+  // A 10 x 10 m plot of pines: about 16 stems a person would count, DBH 0.1-0.4 m.
+  EXPECT_GE(rows.size(), 12u);
+  EXPECT_LE(rows.size(), 22u);
+  for (const auto& t : rows) {
+    ASSERT_EQ(t.size(), 12u);
+    EXPECT_GE(t[1], -0.5);  // inside the plot (its own coordinates, 0..10 m)
+    EXPECT_LE(t[1], 10.5);
+    EXPECT_GE(t[2], -0.5);
+    EXPECT_LE(t[2], 10.5);
+    EXPECT_GT(t[4], 0.05);
+    EXPECT_LT(t[4], 0.6);
+    EXPECT_GT(t[7], 0.9);  // upright axes
+  }
+  std::ifstream g(out / "trees.geojson");
+  const auto geo = nlohmann::json::parse(g);
+  EXPECT_EQ(geo["type"], "FeatureCollection");
+  EXPECT_EQ(geo["features"].size(), rows.size());
+  EXPECT_GT(std::filesystem::file_size(out / "trees.png"), 1000u);
+  // Nothing is replaced without --force.
+  r = run_cli(cmd + quoted(out));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace fieldlidar::test
