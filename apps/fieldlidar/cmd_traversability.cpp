@@ -88,8 +88,8 @@ void run(const TraversabilityOptions& o) {
   for (const auto& n : names) io::check_writable(out / n, o.force, {fs::path(o.input)});
   const PointCloud cloud = io::read_cloud(o.input);
   if (cloud.valid_count() == 0)
-    warn(o.input + ": no valid point (" + std::to_string(cloud.size()) +
-         " points): the map is all unknown");
+    throw Error(o.input + ": no valid point (" + std::to_string(cloud.size()) +
+                " points): nothing to map");
 
   const auto t0 = std::chrono::steady_clock::now();
   const segmentation::SweepCheck check = segmentation::check_sweep(cloud);
