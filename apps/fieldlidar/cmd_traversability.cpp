@@ -42,18 +42,24 @@ Rgb cell_colour(float tau, bool impassable) {
   return {std::min(1.0, 2.0 * (1.0 - t)), std::min(1.0, 2.0 * t), 0.1};
 }
 
-void draw(const Grid2D& map, const fs::path& path, bool force) {
+void draw(const Grid2D& map, const std::string& title, const fs::path& path, bool force) {
   const GridGeometry& g = map.geometry();
-  RasterImage image(std::max(1, g.width), std::max(1, g.height));
+  const Eigen::Vector2d size(g.width * g.resolution_m, g.height * g.resolution_m);
+  TopDownCanvas canvas(g.origin_m, g.origin_m + size, 1000);
   const auto tau = map.layer(terrain::layer::kTraversability);
   const auto impassable = map.layer(terrain::layer::kImpassable);
   for (int iy = 0; iy < g.height; ++iy)
     for (int ix = 0; ix < g.width; ++ix) {
       const std::size_t i = g.linear_index(ix, iy);
-      image.set(ix, g.height - 1 - iy, cell_colour(tau[i], impassable[i] > 0.5f));
+      canvas.cell(g, ix, iy, cell_colour(tau[i], impassable[i] > 0.5f));
     }
-  const int s = std::clamp(800 / std::max({1, g.width, g.height}), 1, 8);
-  image.save_png(path, force, s, s);
+  canvas.title(title);
+  canvas.legend({{"best (tau 1)", cell_colour(1.0f, false)},
+                 {"poor (tau 0.5)", cell_colour(0.5f, false)},
+                 {"worst passable (tau 0)", cell_colour(0.0f, false)},
+                 {"impassable", cell_colour(0.0f, true)},
+                 {"unknown", cell_colour(NAN, false)}});
+  canvas.save_png(path, force);
 }
 
 // A survey's cell holds about 8 returns on average (an airborne tile of ~1 point/m2 gets ~3 m
@@ -118,7 +124,10 @@ void run(const TraversabilityOptions& o) {
       io::encode_nav2_map(placed_tau(map, cloud.origin_m), "tau", "traversability.pgm", nav);
   io::write_file_atomic(out / "traversability.pgm", nav2.pgm, o.force);
   io::write_file_atomic(out / "traversability.yaml", nav2.yaml, o.force);
-  draw(map, out / "traversability.png", o.force);
+  draw(map,
+       fmt::format("{}: traversability, {} m cells", fs::path(o.input).filename().string(),
+                   map.geometry().resolution_m),
+       out / "traversability.png", o.force);
 
   const GridGeometry& g = map.geometry();
   const auto tau = map.layer(terrain::layer::kTraversability);
