@@ -19,5 +19,6 @@ void add_legs_command(CLI::App& app);
 void add_legs_train_command(CLI::App& app);
 void add_odometry_command(CLI::App& app);
 void add_trunks_command(CLI::App& app);
+void add_traversability_command(CLI::App& app);
 
 }  // namespace fieldlidar::app

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   fieldlidar::app::add_legs_train_command(app);
   fieldlidar::app::add_odometry_command(app);
   fieldlidar::app::add_trunks_command(app);
+  fieldlidar::app::add_traversability_command(app);
 
   try {
     if (argc == 1)

@@ -108,6 +108,14 @@ void TopDownCanvas::raster(const GridGeometry& g, std::span<const float> values,
     }
 }
 
+void TopDownCanvas::cell(const GridGeometry& g, int ix, int iy, const Rgb& c) {
+  const double side = g.resolution_m * scale_;
+  const Eigen::Vector2d p = to_pixel(g.origin_m + g.resolution_m * Eigen::Vector2d(ix, iy + 1));
+  cairo_set_source_rgb(cr_, c.r, c.g, c.b);
+  cairo_rectangle(cr_, p.x(), p.y(), side + 0.5, side + 0.5);
+  cairo_fill(cr_);
+}
+
 void TopDownCanvas::dot(const Eigen::Vector2d& w, const Rgb& c, double radius_px) {
   const auto p = to_pixel(w);
   cairo_set_source_rgb(cr_, c.r, c.g, c.b);

@@ -42,6 +42,8 @@ class TopDownCanvas {
   /// Colours each cell of a grid layer by `ramp((v - lo) / (hi - lo))`; NaN cells are skipped.
   void raster(const GridGeometry& geometry, std::span<const float> values, double lo, double hi,
               double alpha = 1.0);
+  /// Fills cell (ix, iy) of a grid with one colour.
+  void cell(const GridGeometry& geometry, int ix, int iy, const Rgb& color);
   void dot(const Eigen::Vector2d& world_m, const Rgb& color, double radius_px = 1.0);
   void polyline(std::span<const Eigen::Vector2d> world_m, const Rgb& color, double width_px = 2.0,
                 bool closed = false);

@@ -1,0 +1,151 @@
+// End-to-end: fieldlidar traversability on a simulated terrain frame and an airborne survey.
+
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <iterator>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_cli.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string args(std::initializer_list<std::string> words) {
+  std::ostringstream s;
+  for (const auto& w : words) s << w << ' ';
+  return s.str();
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), {}};
+}
+
+struct PgmCounts {
+  int width = 0, height = 0;
+  std::size_t occupied = 0, free = 0, unknown = 0, other = 0;
+};
+
+// Reads the P5 image written by the command (one comment line after the magic).
+PgmCounts read_pgm(const fs::path& p) {
+  std::istringstream s(slurp(p));
+  std::string magic, comment;
+  PgmCounts c;
+  int maxval = 0;
+  std::getline(s, magic);
+  EXPECT_EQ(magic, "P5");
+  std::getline(s, comment);
+  EXPECT_EQ(comment.rfind("#", 0), 0u);
+  s >> c.width >> c.height >> maxval;
+  EXPECT_EQ(maxval, 255);
+  s.get();
+  const std::string pixels{std::istreambuf_iterator<char>(s), {}};
+  EXPECT_EQ(pixels.size(), std::size_t(c.width) * std::size_t(c.height));
+  for (unsigned char v : pixels) {
+    if (v == 0)
+      ++c.occupied;
+    else if (v == 254)
+      ++c.free;
+    else if (v == 205)
+      ++c.unknown;
+    else
+      ++c.other;
+  }
+  return c;
+}
+
+// The checks both inputs share: files, YAML fields, PGM size against the summary, some of each
+// class. Returns the summary.
+nlohmann::json check_outputs(const fs::path& dir) {
+  for (const char* n :
+       {"traversability.yaml", "traversability.pgm", "traversability.png", "summary.json"})
+    EXPECT_TRUE(fs::exists(dir / n)) << n;
+  const auto j = nlohmann::json::parse(slurp(dir / "summary.json"));
+  const std::string yaml = slurp(dir / "traversability.yaml");
+  EXPECT_NE(yaml.find("image: traversability.pgm\n"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("mode: trinary\n"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("negate: 0\n"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("occupied_thresh: 0.65\n"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("free_thresh: 0.196\n"), std::string::npos) << yaml;
+  std::ostringstream res;
+  res << "resolution: " << j["resolution_m"].get<double>() << "\n";
+  EXPECT_NE(yaml.find(res.str()), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("origin: ["), std::string::npos) << yaml;
+  const PgmCounts c = read_pgm(dir / "traversability.pgm");
+  EXPECT_EQ(c.width, j["width_cells"].get<int>());
+  EXPECT_EQ(c.height, j["height_cells"].get<int>());
+  EXPECT_EQ(c.other, 0u);  // trinary: three values only
+  EXPECT_EQ(c.occupied + c.free, j["cells_known"].get<std::size_t>());
+  EXPECT_GT(c.occupied, 10u);
+  EXPECT_GT(c.free, 100u);
+  EXPECT_GT(c.unknown, 0u);
+  EXPECT_GT(fs::file_size(dir / "traversability.png"), 1000u);
+  return j;
+}
+
+TEST(CliTraversability, SimulatedTerrainFrameAndRefusesToOverwrite) {
+  const auto dir = temp_dir("cli_traversability_sim");
+  const auto sim = dir / "sim", out = dir / "out";
+  const auto s =
+      run_cli(args({"simulate", "--scene", "terrain", "--frames", "1", "--out", quoted(sim)}));
+  ASSERT_EQ(s.exit_code, 0) << s.output;
+  const auto frame = sim / "pcd" / "000000.pcd";
+  ASSERT_TRUE(fs::exists(frame));
+  const auto r = run_cli(args({"traversability", quoted(frame), "--out", quoted(out)}));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = check_outputs(out);
+  EXPECT_EQ(j["input"], "sweep");
+  EXPECT_EQ(j["sensor"], "vlp16");
+  EXPECT_DOUBLE_EQ(j["resolution_m"].get<double>(), 0.5);
+  // Seed 0, frame 0 (VLP-16, 40 m reach): 710 of 161 x 161 cells known, 92 impassable.
+  EXPECT_GT(j["cells_known"].get<int>(), 500);
+  EXPECT_GT(j["cells_impassable"].get<int>(), 30);
+  EXPECT_GT(j["cells_passable"].get<int>(), 300);
+  // The map is a square of 2 * 40 m around the sensor: origin at (-40, -40).
+  EXPECT_NE(slurp(out / "traversability.yaml").find("origin: [-40, -40, 0.0]"), std::string::npos);
+  // Outputs exist: without --force nothing is replaced, with it all is.
+  const auto before = slurp(out / "summary.json");
+  const auto again = run_cli(args({"traversability", quoted(frame), "--out", quoted(out)}));
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.output.find("already exists"), std::string::npos) << again.output;
+  EXPECT_EQ(slurp(out / "summary.json"), before);
+  EXPECT_EQ(
+      run_cli(args({"traversability", quoted(frame), "--out", quoted(out), "--force"})).exit_code,
+      0);
+  EXPECT_EQ(run_cli(args({"traversability", quoted(frame), "--out", quoted(out), "--force",
+                          "--cell", "0"}))
+                .exit_code,
+            1);
+  EXPECT_EQ(
+      run_cli(args({"traversability", quoted(dir / "missing.pcd"), "--out", quoted(dir / "o2")}))
+          .exit_code,
+      1);
+}
+
+TEST(CliTraversability, AirborneSurveyIsMappedAsAnArea) {
+  FIELDLIDAR_REQUIRE_DATA("terrain_als/Topography.las");
+  const auto dir = temp_dir("cli_traversability_als");
+  const auto r = run_cli(args(
+      {"traversability", quoted(data_file("terrain_als/Topography.las")), "--out", quoted(dir)}));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("not one sensor sweep"), std::string::npos) << r.output;
+  const auto j = check_outputs(dir);
+  EXPECT_EQ(j["input"], "survey");
+  // 73,403 returns over 286 x 286 m (0.9 per m2): 3 m cells, 96 x 96; 1563 known (17 %).
+  EXPECT_DOUBLE_EQ(j["resolution_m"].get<double>(), 3.0);
+  EXPECT_GT(j["coverage"].get<double>(), 0.10);
+  // The map is in the file's coordinates (LAS origin 273000, 5274000 added).
+  EXPECT_NEAR(j["origin_m"][0].get<double>(), 273357.1, 1.0);
+  EXPECT_NEAR(j["origin_m"][1].get<double>(), 5274357.1, 1.0);
+}
+
+}  // namespace
+}  // namespace fieldlidar::test
