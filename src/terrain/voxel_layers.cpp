@@ -88,6 +88,15 @@ Grid2D build_layers(std::span<const Eigen::Vector3d> pts, std::span<const std::u
   }
 
   const int half = int(std::lround(g_l / c.cell_m)) / 2;
+  // Calls f(point index) for every point binned in the voxel's window of cells around (ix, iy).
+  auto for_each_in_window = [&](int ix, int iy, auto&& f) {
+    for (int dy = -half; dy <= half; ++dy)
+      for (int dx = -half; dx <= half; ++dx) {
+        if (!g.contains(ix + dx, iy + dy)) continue;
+        const std::size_t q = g.linear_index(ix + dx, iy + dy);
+        for (std::uint32_t j = start[q]; j < start[q + 1]; ++j) f(order[j]);
+      }
+  };
   const double rho_max = c.robot.max_slope_deg;
   const double r_scale = c.robot.max_step_m / 2.0;
   auto L = [&](const char* name) { return map.layer(name); };
@@ -116,23 +125,18 @@ Grid2D build_layers(std::span<const Eigen::Vector3d> pts, std::span<const std::u
       Eigen::Vector3d sum = Eigen::Vector3d::Zero(), gsum = sum;
       Eigen::Matrix3d sq = Eigen::Matrix3d::Zero(), gsq = sq;
       int n = 0, gn = 0;
-      for (int dy = -half; dy <= half; ++dy)
-        for (int dx = -half; dx <= half; ++dx) {
-          if (!g.contains(ix + dx, iy + dy)) continue;
-          const std::size_t q = g.linear_index(ix + dx, iy + dy);
-          for (std::uint32_t j = start[q]; j < start[q + 1]; ++j) {
-            const Eigen::Vector3d& p = pts[order[j]];
-            if (p.z() < lo || p.z() > hi) continue;  // pass-through: overhangs fall out
-            sum += p;
-            sq += p * p.transpose();
-            ++n;
-            if (ground[order[j]]) {
-              gsum += p;
-              gsq += p * p.transpose();
-              ++gn;
-            }
-          }
+      for_each_in_window(ix, iy, [&](std::uint32_t i) {
+        const Eigen::Vector3d& p = pts[i];
+        if (p.z() < lo || p.z() > hi) return;  // pass-through: overhangs fall out
+        sum += p;
+        sq += p * p.transpose();
+        ++n;
+        if (ground[i]) {
+          gsum += p;
+          gsq += p * p.transpose();
+          ++gn;
         }
+      });
       if (n < c.min_voxel_points) continue;
       // The seed's voxel plane (all points in the voxel) decides the 2D obstacle; the ground's
       // own plane (its ground returns, when enough) gives the slope of the ground there.
@@ -171,19 +175,14 @@ Grid2D build_layers(std::span<const Eigen::Vector3d> pts, std::span<const std::u
       // neighbours, as far as the robot reaches).
       double vmin = 0, vmax = 0;
       int vm = 0;
-      for (int dy = -half; dy <= half; ++dy)
-        for (int dx = -half; dx <= half; ++dx) {
-          if (!g.contains(ix + dx, iy + dy)) continue;
-          const std::size_t q = g.linear_index(ix + dx, iy + dy);
-          for (std::uint32_t j = start[q]; j < start[q + 1]; ++j) {
-            const Eigen::Vector3d& p = pts[order[j]];
-            if (p.z() < lo || p.z() > hi || (ground_plane && !ground[order[j]])) continue;
-            const double d = normal.dot(p - centroid);
-            vmin = vm ? std::min(vmin, d) : d;
-            vmax = vm ? std::max(vmax, d) : d;
-            ++vm;
-          }
-        }
+      for_each_in_window(ix, iy, [&](std::uint32_t i) {
+        const Eigen::Vector3d& p = pts[i];
+        if (p.z() < lo || p.z() > hi || (ground_plane && !ground[i])) return;
+        const double d = normal.dot(p - centroid);
+        vmin = vm ? std::min(vmin, d) : d;
+        vmax = vm ? std::max(vmax, d) : d;
+        ++vm;
+      });
       double dmin = 0, dmax = 0, dsum = 0;
       int m = 0, raised = 0;
       for (std::uint32_t j = start[k]; j < start[k + 1]; ++j) {
