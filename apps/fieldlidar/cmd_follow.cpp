@@ -253,8 +253,7 @@ void add_follow_command(CLI::App& app) {
                   "at 48 deg latitude)");
   cmd->add_option("--pose-source", o->pose_source,
                   "The mower's pose: odometry (LiDAR + IMU + wheels) or truth (the simulator's)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"odometry", "truth"}));
+      ->capture_default_str();
   cmd->add_option("--out", o->out, "Output folder")->required();
   cmd->add_flag("--force", o->force, "Overwrite existing output files");
   cmd->callback([o] { run_follow(*o); });

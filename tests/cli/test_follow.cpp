@@ -97,7 +97,7 @@ TEST(CliFollow, RejectsUnknownScenarioAndBadDistances) {
   EXPECT_NE(r.output.find("--scenario 'dance'"), std::string::npos) << r.output;
   r = test::run_cli("follow --pose-source gps --out " + dir.string());
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("--pose-source"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--pose-source 'gps'"), std::string::npos) << r.output;
   r = test::run_cli("follow --safe-distance 5 --max-distance 3 --out " + dir.string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("--safe-distance"), std::string::npos) << r.output;
