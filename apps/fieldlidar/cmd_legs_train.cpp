@@ -20,8 +20,8 @@
 #include "fieldlidar/people/leg_training.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/scenes.hpp"
-#include "support/warnings.hpp"
 #include "support/option_checks.hpp"
+#include "support/warnings.hpp"
 
 namespace fieldlidar::app {
 

@@ -31,13 +31,15 @@ struct TrunksOptions {
 };
 
 std::string trees_csv(const std::vector<forest::Tree>& trees, const Eigen::Vector3d& origin) {
-  std::string s = "id,x_m,y_m,z_base_m,dbh_m,axis_x,axis_y,axis_z,height_seen_m,arc_deg,"
-                  "residual_m,observations\n";
+  std::string s =
+      "id,x_m,y_m,z_base_m,dbh_m,axis_x,axis_y,axis_z,height_seen_m,arc_deg,"
+      "residual_m,observations\n";
   for (const auto& t : trees) {
     const Eigen::Vector3d b = t.base_m + origin;
-    s += fmt::format("{},{:.3f},{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{:.2f},{:.1f},{:.4f},{}\n",
-                     t.id, b.x(), b.y(), b.z(), t.dbh_m, t.axis.x(), t.axis.y(), t.axis.z(),
-                     t.z_max_seen_m - t.z_min_seen_m, t.arc_deg, t.residual_m, t.observations);
+    s +=
+        fmt::format("{},{:.3f},{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{:.2f},{:.1f},{:.4f},{}\n",
+                    t.id, b.x(), b.y(), b.z(), t.dbh_m, t.axis.x(), t.axis.y(), t.axis.z(),
+                    t.z_max_seen_m - t.z_min_seen_m, t.arc_deg, t.residual_m, t.observations);
   }
   return s;
 }
@@ -50,9 +52,13 @@ std::string trees_geojson(const std::vector<forest::Tree>& trees, const Eigen::V
         {{"type", "Feature"},
          {"geometry", {{"type", "Point"}, {"coordinates", {b.x(), b.y(), b.z()}}}},
          {"properties",
-          {{"id", t.id}, {"dbh_m", t.dbh_m}, {"height_seen_m", t.z_max_seen_m - t.z_min_seen_m},
-           {"arc_deg", t.arc_deg}, {"residual_m", t.residual_m},
-           {"observations", t.observations}, {"ground_found", t.ground_found}}}});
+          {{"id", t.id},
+           {"dbh_m", t.dbh_m},
+           {"height_seen_m", t.z_max_seen_m - t.z_min_seen_m},
+           {"arc_deg", t.arc_deg},
+           {"residual_m", t.residual_m},
+           {"observations", t.observations},
+           {"ground_found", t.ground_found}}}});
   }
   return fc.dump(1) + "\n";
 }
@@ -73,7 +79,8 @@ void draw(const PointCloud& cloud, const std::vector<std::uint8_t>& ground,
     canvas.text(c + Eigen::Vector2d(t.dbh_m / 2 + 0.1, 0), std::to_string(t.id), {0, 0, 0}, 11);
   }
   canvas.title(fmt::format("trunks: {} trees", trees.size()));
-  canvas.legend({{"ground", {0.8, 0.75, 0.6}}, {"other points", {0.6, 0.65, 0.7}},
+  canvas.legend({{"ground", {0.8, 0.75, 0.6}},
+                 {"other points", {0.6, 0.65, 0.7}},
                  {"stem at 1.3 m (DBH)", palette(1)}});
   canvas.save_png(path, force);
 }
@@ -102,9 +109,11 @@ void run(const TrunksOptions& o) {
                         o.force);
   draw(cloud, ground.is_ground, result.trees, out / "trees.png", o.force);
   fmt::print("{}: {} points ({}), {} ground; {} scan segments, {} stacks, {} trees -> {}\n",
-             o.input, cloud.size(), fmt::format("{}, {}", sweep ? "sweep" : "plot",
-                                               cloud.fields.ring ? "rings" : "horizontal slices"), ground.ground_count,
-             result.segments, result.stacks, result.trees.size(), out.string());
+             o.input, cloud.size(),
+             fmt::format("{}, {}", sweep ? "sweep" : "plot",
+                         cloud.fields.ring ? "rings" : "horizontal slices"),
+             ground.ground_count, result.segments, result.stacks, result.trees.size(),
+             out.string());
 }
 
 }  // namespace

@@ -9,8 +9,8 @@
 
 namespace fieldlidar::forest {
 
-Circle fit_circle(std::span<const Eigen::Vector2d> points, double min_radius_m,
-                  double max_radius_m, int iterations) {
+Circle fit_circle(std::span<const Eigen::Vector2d> points, double min_radius_m, double max_radius_m,
+                  int iterations) {
   Circle c;
   const std::size_t n = points.size();
   if (n < 3) return c;
@@ -110,8 +110,9 @@ Axis fit_axis(std::span<const Eigen::Vector3d> centres, double reject_m, int ite
     double ss = 0;
     for (std::size_t i = 0; i < centres.size(); ++i) {
       const double dz = centres[i].z() - zm;
-      d[i] = (centres[i].head<2>() - Eigen::Vector2d(axis.point.x() + a * dz,
-                                                     axis.point.y() + b * dz)).norm();
+      d[i] =
+          (centres[i].head<2>() - Eigen::Vector2d(axis.point.x() + a * dz, axis.point.y() + b * dz))
+              .norm();
     }
     for (auto i : in) ss += d[i] * d[i];
     const double thr = std::max(reject_m, 2.5 * std::sqrt(ss / n));

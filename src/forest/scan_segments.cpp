@@ -85,7 +85,8 @@ void segment_slice(const PointCloud& cloud, int line, const std::vector<std::uin
       const auto& pts = grid[k];
       seg.indices.insert(seg.indices.end(), pts.begin(), pts.end());
       const auto& p = cloud.points[pts.front()];
-      const auto cx = std::int64_t(std::floor(p.x / cell)), cy = std::int64_t(std::floor(p.y / cell));
+      const auto cx = std::int64_t(std::floor(p.x / cell)),
+                 cy = std::int64_t(std::floor(p.y / cell));
       for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy) {
           const auto n = key(cx + dx, cy + dy);
@@ -115,7 +116,8 @@ std::vector<ScanSegment> segment_scan_lines(const PointCloud& cloud,
   double z0 = 1e30;
   if (!rings)
     for (std::size_t i = 0; i < cloud.size(); ++i)
-      if (usable(cloud.points[i], excluded, i, config, false)) z0 = std::min(z0, double(cloud.points[i].z));
+      if (usable(cloud.points[i], excluded, i, config, false))
+        z0 = std::min(z0, double(cloud.points[i].z));
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const auto& p = cloud.points[i];
     if (!usable(p, excluded, i, config, rings)) continue;

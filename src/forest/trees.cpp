@@ -110,7 +110,8 @@ std::optional<Candidate> tree_from_stack(const PointCloud& cloud,
     }
     lines_dbh += in_window;
   }
-  std::vector<Eigen::Vector2d> ring = (ring_dbh.size() >= 6 && lines_dbh >= 1) ? ring_dbh : ring_all;
+  std::vector<Eigen::Vector2d> ring =
+      (ring_dbh.size() >= 6 && lines_dbh >= 1) ? ring_dbh : ring_all;
   Circle circle = fit_circle(ring, c.min_radius_m, c.max_radius_m, 20);
   // Trim returns off the circle (twigs, mixed edge returns) and refit.
   for (int it = 0; it < 3 && circle.ok; ++it) {

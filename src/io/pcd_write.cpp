@@ -24,7 +24,6 @@ std::string viewpoint_line(const Eigen::Vector3d& origin) {
   return buf;
 }
 
-
 std::string header_text(const pcl::PCLPointCloud2& blob, const char* data,
                         const Eigen::Vector3d& origin) {
   std::string fields, sizes, types, counts;

@@ -24,10 +24,10 @@ struct Scores {
   double dbh_bias() const { return matched ? dbh_sum / matched : 0.0; }
   double pos_rmse() const { return matched ? std::sqrt(pos_sq / matched) : 0.0; }
   void print(const char* name) const {
-    std::printf("%s: truth %d detected %d matched %d recall %.3f precision %.3f DBH RMSE %.4f m "
-                "bias %+.4f m position RMSE %.4f m\n",
-                name, truth, detected, matched, recall(), precision(), dbh_rmse(), dbh_bias(),
-                pos_rmse());
+    std::printf(
+        "%s: truth %d detected %d matched %d recall %.3f precision %.3f DBH RMSE %.4f m "
+        "bias %+.4f m position RMSE %.4f m\n",
+        name, truth, detected, matched, recall(), precision(), dbh_rmse(), dbh_bias(), pos_rmse());
   }
 };
 
@@ -43,7 +43,12 @@ inline void score_frame(const sim::Scene& scene, const sim::SimFrame& frame,
     if (label_class(l) == LabelClass::kTrunk) ++hits[label_instance(l)];
   const Pose T = frame.T_world_lidar_start;
   const Eigen::Vector3d sensor = T.translation();
-  struct Truth { Eigen::Vector2d xy; double dbh; bool scored; bool used = false; };
+  struct Truth {
+    Eigen::Vector2d xy;
+    double dbh;
+    bool scored;
+    bool used = false;
+  };
   std::vector<Truth> truth;
   for (const auto& t : scene.trunks()) {
     const Eigen::Vector3d p = t.base_m + t.axis * (1.3 / t.axis.z());
@@ -75,8 +80,9 @@ inline void score_frame(const sim::Scene& scene, const sim::SimFrame& frame,
     s.dbh_sum += e;
     s.pos_sq += best_d * best_d;
     if (std::getenv("FOREST_DEBUG"))
-      std::printf("    dbh %.3f true %.3f arc %.0f res %.4f obs %zu range %.1f\n", d.dbh_m, best->dbh,
-                  d.arc_deg, d.residual_m, d.observations, (p - sensor).head<2>().norm());
+      std::printf("    dbh %.3f true %.3f arc %.0f res %.4f obs %zu range %.1f\n", d.dbh_m,
+                  best->dbh, d.arc_deg, d.residual_m, d.observations,
+                  (p - sensor).head<2>().norm());
   }
 }
 

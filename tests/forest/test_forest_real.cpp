@@ -27,10 +27,11 @@ TEST(ForestReal, PinePlot) {
               r.trees.size());
   int plausible = 0;
   for (const auto& t : r.trees) {
-    std::printf("  tree %u at (%.2f, %.2f, %.2f) dbh %.3f arc %.0f res %.4f lines %zu seen "
-                "%.1f-%.1f\n",
-                t.id, t.base_m.x(), t.base_m.y(), t.base_m.z(), t.dbh_m, t.arc_deg, t.residual_m,
-                t.observations, t.z_min_seen_m, t.z_max_seen_m);
+    std::printf(
+        "  tree %u at (%.2f, %.2f, %.2f) dbh %.3f arc %.0f res %.4f lines %zu seen "
+        "%.1f-%.1f\n",
+        t.id, t.base_m.x(), t.base_m.y(), t.base_m.z(), t.dbh_m, t.arc_deg, t.residual_m,
+        t.observations, t.z_min_seen_m, t.z_max_seen_m);
     plausible += t.dbh_m > 0.10 && t.dbh_m < 0.40 && t.arc_deg > 270 && t.observations >= 30;
   }
   EXPECT_GE(r.trees.size(), 14u);
@@ -49,8 +50,8 @@ TEST(ForestReal, DbhSlice) {
   std::vector<Eigen::Vector2d> xy;
   for (const auto& p : cloud.points) xy.emplace_back(p.x, p.y);
   const Circle c = fit_circle(xy, 0.03, 0.6, 30);
-  std::printf("dbh.las: %zu points, diameter %.3f m, residual %.4f m, arc %.0f deg\n",
-              cloud.size(), 2 * c.radius_m, c.residual_m, arc_coverage_deg(xy, c.center));
+  std::printf("dbh.las: %zu points, diameter %.3f m, residual %.4f m, arc %.0f deg\n", cloud.size(),
+              2 * c.radius_m, c.residual_m, arc_coverage_deg(xy, c.center));
   ASSERT_TRUE(c.ok);
   EXPECT_GT(2 * c.radius_m, 0.05);
   EXPECT_LT(2 * c.radius_m, 1.0);

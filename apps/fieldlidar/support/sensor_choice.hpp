@@ -10,7 +10,8 @@
 namespace fieldlidar::app {
 
 /// The named preset, or one guessed from the number of rings (no ring field: HDL-64E, as KITTI),
-/// the guess said in a warning on stderr. Throws fieldlidar::Error naming --sensor or the input when neither works.
+/// the guess said in a warning on stderr. Throws fieldlidar::Error naming --sensor or the input
+/// when neither works.
 SensorModel sensor_for(const PointCloud& cloud, const std::string& input,
                        const std::string& preset);
 

@@ -62,8 +62,8 @@ struct Circle {
 
 /// Step 3: algebraic (Kasa) fit, refined by Gauss-Newton on the geometric distance with the
 /// radius clamped to [min_radius_m, max_radius_m]. Fewer than 3 points give ok = false.
-Circle fit_circle(std::span<const Eigen::Vector2d> points, double min_radius_m,
-                  double max_radius_m, int iterations = 10);
+Circle fit_circle(std::span<const Eigen::Vector2d> points, double min_radius_m, double max_radius_m,
+                  int iterations = 10);
 
 /// Arc covered by points around a centre (deg): 360 less the widest angular gap.
 double arc_coverage_deg(std::span<const Eigen::Vector2d> points, const Eigen::Vector2d& center);
@@ -78,23 +78,22 @@ struct Axis {
 
 /// Line through circle centres (x, y at height z) by least squares x(z), y(z), dropping centres
 /// farther than max(reject_m, 2.5 sigma) from it and refitting. Needs two centres.
-Axis fit_axis(std::span<const Eigen::Vector3d> centres, double reject_m = 0.05,
-              int iterations = 5);
+Axis fit_axis(std::span<const Eigen::Vector3d> centres, double reject_m = 0.05, int iterations = 5);
 
 struct TreeConfig {
   ScanSegmentConfig segments;
   StackConfig stacks;
   double min_radius_m = 0.03;
   double max_radius_m = 0.6;
-  double max_tilt_deg = 30.0;     ///< axes leaning more than this are not trunks
-  double max_residual_m = 0.03;   ///< trees whose stem fit is worse are dropped
-  double min_arc_deg = 90.0;      ///< and those seen over a narrower arc
-  double min_extent_seen_m = 1.0; ///< and those whose stem points span less height
-  double dbh_height_m = 1.3;      ///< above the ground
-  double dbh_window_m = 0.5;      ///< points within this (along the axis) of DBH height fit it
-  double max_base_height_m = 3.0; ///< the lowest segment must be within this of the ground
-  double ground_radius_m = 1.5;   ///< ground points within this of the axis give its base
-  double merge_distance_m = 0.3;  ///< stacks whose axes pass this close at DBH are one tree
+  double max_tilt_deg = 30.0;      ///< axes leaning more than this are not trunks
+  double max_residual_m = 0.03;    ///< trees whose stem fit is worse are dropped
+  double min_arc_deg = 90.0;       ///< and those seen over a narrower arc
+  double min_extent_seen_m = 1.0;  ///< and those whose stem points span less height
+  double dbh_height_m = 1.3;       ///< above the ground
+  double dbh_window_m = 0.5;       ///< points within this (along the axis) of DBH height fit it
+  double max_base_height_m = 3.0;  ///< the lowest segment must be within this of the ground
+  double ground_radius_m = 1.5;    ///< ground points within this of the axis give its base
+  double merge_distance_m = 0.3;   ///< stacks whose axes pass this close at DBH are one tree
 };
 
 /// One tree: straight trunk from its base on the ground.
@@ -105,8 +104,8 @@ struct Tree {
   double dbh_m = 0.0;
   double z_min_seen_m = 0.0;  ///< visible height range along the axis above the base
   double z_max_seen_m = 0.0;
-  double arc_deg = 0.0;       ///< arc of the stem seen around breast height
-  double residual_m = 0.0;    ///< RMS circle-fit residual there
+  double arc_deg = 0.0;          ///< arc of the stem seen around breast height
+  double residual_m = 0.0;       ///< RMS circle-fit residual there
   std::size_t observations = 0;  ///< scan lines (segments) on the stem
   bool ground_found = false;     ///< false: base from the lowest stem point
   /// Axis point at `h` metres above the base.
