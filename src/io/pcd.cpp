@@ -20,6 +20,7 @@
 #include <pcl/io/pcd_io.h>
 
 #include "fieldlidar/core/error.hpp"
+#include "pcd_header.hpp"
 #include "pcl_fields.hpp"
 #include "text_tokens.hpp"
 
@@ -28,173 +29,10 @@ namespace fieldlidar::io {
 namespace {
 
 using Field = pcl::PCLPointField;
-
-// Bounds that no real scan reaches; they keep a corrupt header from asking for absurd memory.
-constexpr std::size_t kMaxHeaderBytes = 1 << 16;
-constexpr std::uint64_t kMaxPointStep = 1 << 16;
-
-struct PcdHeader {
-  std::vector<std::string> names;
-  std::vector<unsigned> sizes;
-  std::vector<char> types;
-  std::vector<unsigned> counts;
-  std::uint64_t width = 0, height = 0, points = 0;
-  bool has_width = false, has_height = false, has_points = false;
-  int data_type = -1;  ///< 0 ascii, 1 binary, 2 binary_compressed
-  std::size_t data_offset = 0;
-  std::uint64_t point_step = 0;
-  std::array<double, 7> viewpoint{0, 0, 0, 1, 0, 0, 0};  ///< tx ty tz qw qx qy qz
-};
+using detail::PcdHeader;
 
 [[noreturn]] void fail(const std::string& source, const std::string& what) {
-  throw Error(source + ": PCD " + what);
-}
-
-std::uint64_t to_uint(std::string_view s, const std::string& source, std::string_view what) {
-  std::uint64_t v = 0;
-  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || ptr != s.data() + s.size())
-    fail(source, "header: " + std::string(what) + " value '" + std::string(s) +
-                     "' is not a non-negative integer");
-  return v;
-}
-
-/// A whole token as a finite double.
-bool to_double(std::string_view s, double& v) {
-  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  return ec == std::errc() && ptr == s.data() + s.size() && std::isfinite(v);
-}
-
-/// The cloud's origin_m from the VIEWPOINT (the pose of the cloud's frame: p_outer = R p + t):
-/// its translation when the rotation is the identity (how the writer stores origin_m), else zero
-/// (a rotated frame is not an origin shift).
-Eigen::Vector3d origin_of(const PcdHeader& h) {
-  const auto& v = h.viewpoint;
-  const bool identity =
-      std::abs(std::abs(v[3]) - 1.0) < 1e-9 && v[4] == 0 && v[5] == 0 && v[6] == 0;
-  return identity ? Eigen::Vector3d(v[0], v[1], v[2]) : Eigen::Vector3d::Zero();
-}
-
-std::uint8_t pcl_type(char type, unsigned size) {
-  switch (type) {
-    case 'F':
-      return size == 4 ? Field::FLOAT32 : size == 8 ? Field::FLOAT64 : 0;
-    case 'I':
-      return size == 1   ? Field::INT8
-             : size == 2 ? Field::INT16
-             : size == 4 ? Field::INT32
-             : size == 8 ? Field::INT64
-                         : 0;
-    case 'U':
-      return size == 1   ? Field::UINT8
-             : size == 2 ? Field::UINT16
-             : size == 4 ? Field::UINT32
-             : size == 8 ? Field::UINT64
-                         : 0;
-    default:
-      return 0;
-  }
-}
-
-PcdHeader parse_header(std::span<const std::byte> bytes, const std::string& source) {
-  const std::string_view text(reinterpret_cast<const char*>(bytes.data()),
-                              std::min(bytes.size(), kMaxHeaderBytes));
-  if (bytes.empty()) fail(source, "file is empty");
-  PcdHeader h;
-  std::size_t pos = 0;
-  bool seen_fields = false;
-  while (h.data_type < 0) {
-    if (pos >= text.size()) fail(source, "header has no DATA line (truncated, or not a PCD file)");
-    const auto eol = text.find('\n', pos);
-    if (eol == std::string_view::npos)
-      fail(source, "header has no DATA line (truncated, or not a PCD file)");
-    const auto line = text.substr(pos, eol - pos);
-    pos = eol + 1;
-    const auto tok = detail::split_tokens(line);
-    if (tok.empty() || tok[0][0] == '#') continue;
-    const std::string_view key = tok[0];
-    const std::size_t nvals = tok.size() - 1;
-    auto need_fields = [&] {
-      if (!seen_fields) fail(source, "header: " + std::string(key) + " before FIELDS");
-      if (nvals != h.names.size())
-        fail(source, "header: " + std::string(key) + " has " + std::to_string(nvals) +
-                         " entries for " + std::to_string(h.names.size()) + " fields");
-    };
-    if (key == "VERSION") {
-      continue;
-    } else if (key == "FIELDS" || key == "COLUMNS") {
-      if (nvals == 0) fail(source, "header: FIELDS is empty");
-      seen_fields = true;
-      h.names.assign(tok.begin() + 1, tok.end());
-      h.sizes.assign(nvals, 4);
-      h.types.assign(nvals, 'F');
-      h.counts.assign(nvals, 1);
-    } else if (key == "SIZE") {
-      need_fields();
-      for (std::size_t i = 0; i < nvals; ++i)
-        h.sizes[i] =
-            static_cast<unsigned>(std::min<std::uint64_t>(to_uint(tok[i + 1], source, key), 64));
-    } else if (key == "TYPE") {
-      need_fields();
-      for (std::size_t i = 0; i < nvals; ++i) {
-        if (tok[i + 1].size() != 1) fail(source, "header: TYPE '" + std::string(tok[i + 1]) + "'");
-        h.types[i] = tok[i + 1][0];
-      }
-    } else if (key == "COUNT") {
-      need_fields();
-      for (std::size_t i = 0; i < nvals; ++i) {
-        const auto c = to_uint(tok[i + 1], source, key);
-        if (c < 1 || c > kMaxPointStep)
-          fail(source, "header: COUNT " + std::to_string(c) + " of field '" + h.names[i] + "'");
-        h.counts[i] = static_cast<unsigned>(c);
-      }
-    } else if (key == "WIDTH" && nvals == 1) {
-      h.width = to_uint(tok[1], source, key);
-      h.has_width = true;
-    } else if (key == "HEIGHT" && nvals == 1) {
-      h.height = to_uint(tok[1], source, key);
-      h.has_height = true;
-    } else if (key == "POINTS" && nvals == 1) {
-      h.points = to_uint(tok[1], source, key);
-      h.has_points = true;
-    } else if (key == "VIEWPOINT") {
-      // Only the pose itself is used (origin_of); a malformed one is ignored, as PCL does.
-      std::array<double, 7> v{};
-      bool ok = nvals == 7;
-      for (std::size_t i = 0; ok && i < 7; ++i) ok = to_double(tok[i + 1], v[i]);
-      if (ok) h.viewpoint = v;
-    } else if (key == "DATA" && nvals == 1) {
-      if (tok[1] == "ascii")
-        h.data_type = 0;
-      else if (tok[1] == "binary")
-        h.data_type = 1;
-      else if (tok[1] == "binary_compressed")
-        h.data_type = 2;
-      else
-        fail(source, "header: DATA '" + std::string(tok[1]) +
-                         "' is not ascii, binary or binary_compressed");
-      h.data_offset = pos;
-    } else {
-      fail(source, "header: unexpected line '" +
-                       std::string(line.substr(0, std::min<std::size_t>(line.size(), 40))) +
-                       "' (not a PCD file?)");
-    }
-  }
-  if (!seen_fields) fail(source, "header has no FIELDS line");
-  for (std::size_t i = 0; i < h.names.size(); ++i) {
-    if (pcl_type(h.types[i], h.sizes[i]) == 0)
-      fail(source, "header: field '" + h.names[i] + "' has TYPE " + h.types[i] + " with SIZE " +
-                       std::to_string(h.sizes[i]));
-    h.point_step += std::uint64_t(h.sizes[i]) * h.counts[i];
-  }
-  if (h.point_step > kMaxPointStep) fail(source, "header: point size is absurdly large");
-  if (!h.has_height) h.height = 1;
-  if (!h.has_width) h.width = h.height ? h.points / h.height : 0;
-  if (!h.has_points) h.points = h.width * h.height;
-  if (h.width > UINT32_MAX || h.height > UINT32_MAX || h.width * h.height != h.points)
-    fail(source, "header: WIDTH " + std::to_string(h.width) + " x HEIGHT " +
-                     std::to_string(h.height) + " != POINTS " + std::to_string(h.points));
-  return h;
+  detail::pcd_fail(source, what);
 }
 
 std::uint32_t get_u32(std::span<const std::byte> b, std::size_t at) {
@@ -235,7 +73,7 @@ void parse_ascii_body(std::span<const std::byte> bytes, const PcdHeader& h,
         if (ec != std::errc() || ptr != s.data() + s.size())
           fail(source, "data line " + std::to_string(line_no) + ": '" + std::string(tok[t]) +
                            "' is not a number");
-        const auto type = pcl_type(h.types[f], h.sizes[f]);
+        const auto type = detail::pcd_pcl_type(h.types[f], h.sizes[f]);
         auto put = [&](auto typed) {
           using T = decltype(typed);
           if constexpr (std::is_floating_point_v<T>) {
@@ -332,7 +170,7 @@ class MappedFile {
 }  // namespace
 
 PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source) {
-  const PcdHeader h = parse_header(bytes, source);
+  const PcdHeader h = detail::parse_pcd_header(bytes, source);
   // Bounds by division first, so that no product of header numbers can wrap around.
   const std::uint64_t available = bytes.size() - h.data_offset;
   if (h.data_type == 1 && h.points > available / h.point_step)
@@ -367,7 +205,7 @@ PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source
       Field f;
       f.name = h.names[i];
       f.offset = offset;
-      f.datatype = pcl_type(h.types[i], h.sizes[i]);
+      f.datatype = detail::pcd_pcl_type(h.types[i], h.sizes[i]);
       f.count = h.counts[i];
       offset += h.sizes[i] * h.counts[i];
       blob.fields.push_back(f);
@@ -379,7 +217,7 @@ PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source
     blob.data.resize(data_bytes);
     if (h.points > 0) parse_ascii_body(bytes, h, blob, source);
     PointCloud cloud = detail::from_pcl_cloud2(blob, source);
-    cloud.origin_m = origin_of(h);
+    cloud.origin_m = detail::pcd_origin(h);
     return cloud;
   }
 
@@ -401,7 +239,7 @@ PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source
   for (std::size_t i = 0; i < h.names.size(); ++i) {
     detail::FieldView v;
     v.name = h.names[i];
-    v.datatype = pcl_type(h.types[i], h.sizes[i]);
+    v.datatype = detail::pcd_pcl_type(h.types[i], h.sizes[i]);
     if (h.data_type == 1) {
       v.base = body + offset;
       v.stride = h.point_step;
@@ -413,7 +251,7 @@ PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source
     views.push_back(std::move(v));
   }
   PointCloud cloud = detail::from_field_views(views, width, height, source);
-  cloud.origin_m = origin_of(h);
+  cloud.origin_m = detail::pcd_origin(h);
   return cloud;
 }
 
