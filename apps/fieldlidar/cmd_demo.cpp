@@ -3,6 +3,7 @@
 // when the real data is present, scores ground segmentation on a real off-road scan.
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -21,8 +22,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// The real data folder: $FIELDLIDAR_DATA_DIR when set, else the one found at build time.
+std::string default_data_dir() {
+  const char* env = std::getenv("FIELDLIDAR_DATA_DIR");
+  return env && *env ? std::string(env) : std::string(FIELDLIDAR_DEFAULT_DATA_DIR);
+}
+
 struct DemoOptions {
-  std::string data_dir = FIELDLIDAR_DEFAULT_DATA_DIR;
+  std::string data_dir = default_data_dir();
   std::string out;
 };
 
@@ -79,7 +86,9 @@ void add_demo_command(CLI::App& app) {
       "Run the built-in demonstration (the default job): a simulated mower follows its "
       "operator around a lawn and records the boundary; ground segmentation is scored on "
       "a real scan");
-  cmd->add_option("--data-dir", opts->data_dir, "Folder of real recorded data")
+  cmd->add_option(
+         "--data-dir", opts->data_dir,
+         "Folder of real recorded data ($FIELDLIDAR_DATA_DIR overrides the built-in default)")
       ->capture_default_str();
   cmd->add_option("--out", opts->out,
                   "Output folder (default: ./fieldlidar_demo, or _2, _3, ... if that exists)");
