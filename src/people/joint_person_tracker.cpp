@@ -16,8 +16,6 @@ struct Hypothesis {
   int a = -1, b = -1;
 };
 
-/// Pair hypotheses win over single legs at equal distance (m).
-constexpr double kPairBonusM = 0.15;
 
 Track new_filter(std::uint32_t id, const Eigen::Vector2d& p, double stamp_s, double sigma_m) {
   Track t;
@@ -72,7 +70,7 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
         if ((legs[i].position_m - legs[j].position_m).squaredNorm() > pair2) continue;
         if (capped(legs[i].score) + capped(legs[j].score) <= 0) continue;
         const double d = (0.5 * (legs[i].position_m + legs[j].position_m) - pred).norm();
-        if (d <= c.gate_m) hyp.push_back({d - kPairBonusM, k, int(i), int(j)});
+        if (d <= c.gate_m) hyp.push_back({d - c.pair_bonus_m, k, int(i), int(j)});
       }
     }
   }
@@ -134,7 +132,8 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
     t.occupied_scans = on_occupied(occupied, t.position()) ? t.occupied_scans + 1 : 0;
     if (!t.reported && t.evidence >= c.confirm_evidence && t.hits >= c.confirm_hits &&
         (t.travel_m >= c.min_travel_m || t.zone_pair_hits >= c.zone_confirm_hits ||
-         (c.standing_pair_hits > 0 && t.pair_hits >= c.standing_pair_hits)))
+         (c.standing_pair_hits > 0 && t.pair_hits >= c.standing_pair_hits) ||
+         t.evidence >= c.strong_evidence))
       t.reported = true;
   }
   std::erase_if(tracks_, [&](const JointTrack& t) {

@@ -122,8 +122,11 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     const auto id = joint.person_of_leg[k];
     if (id < 0) continue;
     const JointTrack* t = persons_joint_.find(std::uint32_t(id));
-    // Reported persons, and a pair standing in the follow zone while it is being confirmed.
-    if (!t || !(t->reported || t->zone_pair_hits > 0)) continue;
+    // Reported persons, a pair standing in the follow zone while it is being confirmed, and a
+    // person that walks (its planted foot stands still for a few scans in each stride).
+    if (!t || !(t->reported || t->zone_pair_hits > 0 ||
+                t->filter.velocity().norm() >= config_.walking_speed_m_s))
+      continue;
     const auto [b, e] = cand_range[obs_cand[k]];
     std::fill(person_point.begin() + std::ptrdiff_t(b), person_point.begin() + std::ptrdiff_t(e),
               char(1));

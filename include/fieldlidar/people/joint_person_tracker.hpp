@@ -28,6 +28,9 @@ namespace fieldlidar::people {
 struct JointTrackerConfig {
   double pair_distance_max_m = 0.6;  ///< two legs closer than this can be one person's (m)
   double gate_m = 0.55;              ///< a pair or leg this near a person's prediction updates it
+  /// A pair is preferred over one of its legs unless its midpoint is this much farther from the
+  /// prediction (m): a track fed one leg sits on that leg, half a stride off its body.
+  double pair_bonus_m = 0.3;
   double accel_sigma_m_s2 = 2.0;     ///< white-noise acceleration of a person
   double pair_sigma_m = 0.07;        ///< measurement noise of a pair's midpoint (m)
   double single_sigma_m = 0.15;      ///< of a single leg standing for the person (m)
@@ -45,11 +48,14 @@ struct JointTrackerConfig {
   double single_birth_score_min = 1.0;
   /// Reporting: confidence, detections and walked distance needed (m).
   double confirm_evidence = 2.0;
-  int confirm_hits = 3;
-  double min_travel_m = 0.35;
+  int confirm_hits = 4;
+  double min_travel_m = 1.0;
   /// A track that does not walk is reported after this many paired detections anywhere
   /// (0 = never; a single leg-shaped post does not pair).
-  int standing_pair_hits = 2;
+  int standing_pair_hits = 3;
+  /// A track is also reported, paired or not, once its confidence reaches this (a person seen
+  /// side-on shows one segment for both legs).
+  double strong_evidence = 5.0;
   /// The follow zone: range and half angle about the sensor's x axis (m, deg); a track whose
   /// paired detections there reach `zone_confirm_hits` is reported without walking.
   double zone_range_min_m = 0.3;

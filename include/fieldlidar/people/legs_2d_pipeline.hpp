@@ -77,6 +77,8 @@ struct LegPipeline2DConfig {
   /// A leg carried by its track's evidence through a scan where its own score is not above the
   /// classifier's threshold counts with this score in the person tracker.
   double carried_leg_score = 0.3;
+  /// The returns of a person track at least this fast are kept out of the occupancy grid (m/s).
+  double walking_speed_m_s = 1.0;
   /// People: the legs tracked jointly (joint_person_tracker.hpp).
   JointTrackerConfig joint;
   /// The reported persons are also fed to this tracker (person_tracker(); its own ids).
