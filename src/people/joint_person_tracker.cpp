@@ -16,7 +16,6 @@ struct Hypothesis {
   int a = -1, b = -1;
 };
 
-
 Track new_filter(std::uint32_t id, const Eigen::Vector2d& p, double stamp_s, double sigma_m) {
   Track t;
   t.id = id;
@@ -124,7 +123,8 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
     t.travel_m = std::max(t.travel_m, (t.position() - t.born_m).norm());
     const Eigen::Vector2d s = to_sensor * t.position();
     const double r = s.norm();
-    const bool in_zone = r >= c.zone_range_min_m && r <= c.zone_range_max_m && s.x() >= r * zone_cos;
+    const bool in_zone =
+        r >= c.zone_range_min_m && r <= c.zone_range_max_m && s.x() >= r * zone_cos;
     if (!in_zone)
       t.zone_pair_hits = 0;
     else if (t.legs_now == 2)

@@ -85,8 +85,9 @@ TEST(JointPersonTracker, NoTrackOnOccupiedSpace) {
 TEST(JointPersonTracker, WeakLegsAreNoPerson) {
   JointPersonTracker tracker;
   for (int k = 0; k < 30; ++k)
-    EXPECT_TRUE(tracker.update(0.1 * k, two_legs({2.0, 0.0}, 0.2, -0.5), Eigen::Isometry2d::Identity())
-                    .reported.empty());
+    EXPECT_TRUE(
+        tracker.update(0.1 * k, two_legs({2.0, 0.0}, 0.2, -0.5), Eigen::Isometry2d::Identity())
+            .reported.empty());
 }
 
 TEST(JointPersonTracker, TimeMustNotGoBack) {

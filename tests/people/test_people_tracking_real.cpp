@@ -32,8 +32,8 @@ std::string read_text(const std::string& path) {
 LegPipeline2DConfig shipped() {
   const std::string dir = FIELDLIDAR_CONFIG_DIR;
   LegPipeline2DConfig c;
-  c.detector = legs_config_from_yaml(read_text(dir + "/legs_2d.yaml"), "legs_2d.yaml",
-                                     default_2d_legs());
+  c.detector =
+      legs_config_from_yaml(read_text(dir + "/legs_2d.yaml"), "legs_2d.yaml", default_2d_legs());
   c.detector.classifier = std::make_shared<const LegClassifier>(leg_classifier_from_yaml(
       read_text(dir + "/" + c.detector.classifier_file), c.detector.classifier_file));
   return c;

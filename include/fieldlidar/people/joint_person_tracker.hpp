@@ -31,9 +31,9 @@ struct JointTrackerConfig {
   /// A pair is preferred over one of its legs unless its midpoint is this much farther from the
   /// prediction (m): a track fed one leg sits on that leg, half a stride off its body.
   double pair_bonus_m = 0.3;
-  double accel_sigma_m_s2 = 2.0;     ///< white-noise acceleration of a person
-  double pair_sigma_m = 0.07;        ///< measurement noise of a pair's midpoint (m)
-  double single_sigma_m = 0.15;      ///< of a single leg standing for the person (m)
+  double accel_sigma_m_s2 = 2.0;  ///< white-noise acceleration of a person
+  double pair_sigma_m = 0.07;     ///< measurement noise of a pair's midpoint (m)
+  double single_sigma_m = 0.15;   ///< of a single leg standing for the person (m)
   double max_speed_m_s = 2.5;
   /// Confidence: c <- decay * c + min(score, score_cap) summed over the person's legs this scan
   /// (a single leg counts `single_weight` times its score); a track without legs decays.
