@@ -119,13 +119,14 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
   // Walked distance, follow zone, occupied space, reporting.
   const Eigen::Isometry2d to_sensor = sensor_pose.inverse();
   const double zone_cos = std::cos(c.zone_half_angle_deg * M_PI / 180.0);
+  auto in_zone = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d s = to_sensor * p;
+    const double r = s.norm();
+    return r >= c.zone_range_min_m && r <= c.zone_range_max_m && s.x() >= r * zone_cos;
+  };
   for (auto& t : tracks_) {
     t.travel_m = std::max(t.travel_m, (t.position() - t.born_m).norm());
-    const Eigen::Vector2d s = to_sensor * t.position();
-    const double r = s.norm();
-    const bool in_zone =
-        r >= c.zone_range_min_m && r <= c.zone_range_max_m && s.x() >= r * zone_cos;
-    if (!in_zone)
+    if (!in_zone(t.position()))
       t.zone_pair_hits = 0;
     else if (t.legs_now == 2)
       ++t.zone_pair_hits;
@@ -158,6 +159,7 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
     t.evidence = evidence;
     t.hits = 1;
     t.pair_hits = pair ? 1 : 0;
+    t.zone_pair_hits = pair && in_zone(p) ? 1 : 0;
     t.born_m = p;
     t.legs_now = pair ? 2 : 1;
     tracks_.push_back(t);
