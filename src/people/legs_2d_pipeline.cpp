@@ -104,8 +104,8 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     out.person_detections = det.people.size();
   }
 
-  // 4. People: the legs tracked jointly in the fixed frame, with the static background as the
-  // occupancy grid of non-person returns.
+  // 4. People: the legs off occupied space tracked jointly in the fixed frame (the occupancy
+  // grid of non-person returns also forbids person tracks to stay on occupied cells).
   const auto joint = persons_joint_.update(stamp_s, obs, out.pose, &occupancy_);
   std::vector<Eigen::Vector2d> reported_world;
   for (const auto id : joint.reported) {
@@ -115,8 +115,8 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   }
   persons_.update(stamp_s, reported_world);
 
-  // The background learns only returns that no tracked person explains (a person standing
-  // still must not become background).
+  // The background and the occupancy grids learn only the returns no tracked person explains
+  // (a person standing still must not become occupied space).
   std::vector<char> person_point(pts.size(), 0);
   for (std::size_t k = 0; k < obs.size(); ++k) {
     const auto id = joint.person_of_leg[k];
