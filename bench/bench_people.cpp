@@ -125,18 +125,20 @@ void BM_Legs2D_RealScan(benchmark::State& state) {
 }
 BENCHMARK(BM_Legs2D_RealScan)->Unit(benchmark::kMicrosecond);
 
-/// LegPipeline2D per scan (shipped classifier, scan-matched ego-motion, leg and person tracks)
-/// on the moving robot's scans of negative_2.bag, and the scan matching alone.
-void pipeline_2d(benchmark::State& state, bool matching_only) {
-  const auto bag =
-      std::filesystem::path(FIELDLIDAR_DEFAULT_DATA_DIR) / "legs_2d" / "negative_2.bag";
+/// LegPipeline2D per scan (shipped classifier, scan-matched ego-motion, leg tracks, joint person
+/// tracks and occupancy grid) on the moving robot's scans of negative_2.bag (/right_scan) or of
+/// the people-tracking benchmark bag (/scan), and the scan matching alone.
+void pipeline_2d(benchmark::State& state, bool matching_only,
+                 const char* relative_bag = "legs_2d/negative_2.bag",
+                 const char* topic = "/right_scan") {
+  const auto bag = std::filesystem::path(FIELDLIDAR_DEFAULT_DATA_DIR) / relative_bag;
   const auto model = std::filesystem::path(__FILE__).parent_path().parent_path() / "config" /
                      "legs_2d_classifier.yaml";
   if (!std::filesystem::exists(bag) || !std::filesystem::exists(model)) {
     state.SkipWithError("legs_2d data or config/legs_2d_classifier.yaml absent");
     return;
   }
-  const auto scans = read_scans_2d(bag, "/right_scan");
+  const auto scans = read_scans_2d(bag, topic);
   std::ifstream in(model);
   std::stringstream text;
   text << in.rdbuf();
@@ -166,7 +168,11 @@ void BM_LegPipeline2D_RealScan(benchmark::State& s) {
 void BM_ScanMatching2D_RealScan(benchmark::State& s) {
   pipeline_2d(s, true);
 }
+void BM_LegPipeline2D_TrackingBag(benchmark::State& s) {
+  pipeline_2d(s, false, "legs_2d_tracking/general_tracking_moving_1.bag", "/scan");
+}
 BENCHMARK(BM_LegPipeline2D_RealScan)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LegPipeline2D_TrackingBag)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ScanMatching2D_RealScan)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -38,6 +38,7 @@ struct EvalTrackingOptions {
   std::string truth_topic = "/ground_truth_people_tracks";
   std::string detections;
   std::vector<double> truth_wedge;  ///< bearing min, max (deg)
+  std::vector<std::size_t> scans;   ///< first, last scored frame (0-based, inclusive); all if empty
   double gate_m = 0.75;
   int truth_min_points = 0;  ///< simulated folders: persons hit by fewer returns are not scored
   bool paper_switches = false;
@@ -97,10 +98,16 @@ void run_eval_tracking(EvalTrackingOptions o) {
                                       ? run_tracker(o, truth)
                                       : read_person_tracks_csv(o.detections, truth.stamps_s);
 
+  if (o.scans.size() == 2 && !(o.scans[0] <= o.scans[1] && o.scans[1] < truth.persons.size()))
+    throw Error(fmt::format("--scans {}:{}: expected FIRST <= LAST < {} (the frames of {})",
+                            o.scans[0], o.scans[1], truth.persons.size(), o.input));
+  // The tracker runs on every frame (its tracks carry over); only the range is scored.
+  const std::size_t first = o.scans.size() == 2 ? o.scans[0] : 0;
+  const std::size_t last = o.scans.size() == 2 ? o.scans[1] + 1 : truth.persons.size();
   people::ClearMotScorer scorer(
       {.gate_m = o.gate_m, .count_track_side_switches = !o.paper_switches});
   std::size_t annotated = 0, tracked_all = 0, scans_with_truth = 0;
-  for (std::size_t f = 0; f < truth.persons.size(); ++f) {
+  for (std::size_t f = first; f < last; ++f) {
     annotated += truth.persons[f].size();
     tracked_all += tracked[f].size();
     const auto gt = in_wedge(truth.persons[f], o.truth_wedge);
@@ -130,6 +137,7 @@ void run_eval_tracking(EvalTrackingOptions o) {
                         {"mota", c.mota()},
                         {"recall", c.truth ? nlohmann::json(c.recall()) : nlohmann::json()},
                         {"motp_m", c.matches ? nlohmann::json(c.motp_m()) : nlohmann::json()}};
+    j["scans"] = o.scans.size() == 2 ? nlohmann::json(o.scans) : nlohmann::json();
     j["truth_wedge_deg"] =
         o.truth_wedge.size() == 2 ? nlohmann::json(o.truth_wedge) : nlohmann::json();
     std::printf("%s\n", j.dump(2).c_str());
@@ -181,6 +189,11 @@ void add_eval_tracking_command(CLI::App& app) {
           return std::string("must be a number");
         }
       });
+  cmd->add_option("--scans", o->scans,
+                  "Score only frames FIRST..LAST (0-based, inclusive; e.g. 0:436); the tracker "
+                  "still runs on every frame")
+      ->delimiter(':')
+      ->expected(2);
   cmd->add_option("--truth-min-points", o->truth_min_points,
                   "Simulated folder: score only persons hit by at least this many returns "
                   "(people.csv `points`)")

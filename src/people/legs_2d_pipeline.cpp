@@ -20,8 +20,11 @@ LegPipeline2D::LegPipeline2D(LegPipeline2DConfig config)
       odometry_(config_.scan_matcher),
       world_background_(config_.background),
       sensor_background_(config_.background),
+      occupancy_(config_.occupancy),
+      sensor_occupancy_(config_.occupancy),
       legs_(config_.leg_tracker),
-      persons_(config_.person_tracker) {}
+      persons_(config_.person_tracker),
+      persons_joint_(config_.joint) {}
 
 LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen::Vector2d> points,
                                            const std::optional<Eigen::Isometry2d>& pose) {
@@ -42,6 +45,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
 
   // 2.-3. Scored segments off the background, as leg-track candidates.
   std::vector<Eigen::Vector2d> cand, cand_world;
+  std::vector<std::pair<std::size_t, std::size_t>> cand_range;
   std::vector<double> score;
   for (const auto& [b, e] : split_by_jump(pts, dc.segment_jump_m)) {
     double s = 0;
@@ -64,13 +68,14 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     mean /= double(e - b);
     cand.push_back(mean);
     cand_world.push_back(out.pose * mean);
+    cand_range.emplace_back(b, e);
     score.push_back(s);
   }
-  world_background_.update(world);
-  if (moving_frame) sensor_background_.update(pts);
 
+  // Leg tracks carry a leg through scans where its score dips (half occluded, edge-on).
   const auto leg_update = legs_.update(stamp_s, cand_world);
-  LegDetection det;
+  std::vector<LegObservation> obs;
+  std::vector<std::size_t> obs_cand;
   for (std::size_t i = 0; i < cand.size(); ++i) {
     const auto track = leg_update.track_of_detection[i];
     double prior = 0;
@@ -81,65 +86,62 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     }
     if (score[i] > 0 || prior > 0) {
       out.legs.push_back({cand[i], score[i], track});
-      det.legs.push_back({cand[i], 1, std::int32_t(i)});
+      // A leg on occupied space is no person's leg: the occupancy grid forbids tracks there.
+      const auto [b, e] = cand_range[i];
+      if (occupancy_.is_static(std::span(world).subspan(b, e - b))) continue;
+      if (moving_frame && sensor_occupancy_.is_static(std::span(pts).subspan(b, e - b))) continue;
+      obs.push_back({cand_world[i], score[i] > 0 ? score[i] : config_.carried_leg_score});
+      obs_cand.push_back(i);
     }
   }
   prune(leg_evidence_, legs_);
+  // Paired legs of this scan (seed 000, step 3 output), for the record.
+  {
+    LegDetection det;
+    for (std::size_t i = 0; i < out.legs.size(); ++i)
+      det.legs.push_back({out.legs[i].position_m, 1, std::int32_t(i)});
+    pair_legs(det, dc);
+    out.person_detections = det.people.size();
+  }
 
-  // 4. People: paired legs, tracked in the fixed frame, reported once they have walked.
-  pair_legs(det, dc);
-  // A pair whose legs are both legs only by their tracks' past evidence is no new evidence of a
-  // person: at least one leg must pass the classifier in this scan.
-  std::erase_if(det.people, [&](const Person& p) {
-    return out.legs[p.legs[0]].score <= 0 && out.legs[p.legs[1]].score <= 0;
-  });
-  out.person_detections = det.people.size();
-  std::vector<Eigen::Vector2d> people_world;
-  for (const auto& p : det.people) people_world.push_back(out.pose * p.position_m);
-  // A person who has walked keeps being tracked through scans where only one leg is seen (the
-  // other occluded or merged with it): the nearest unpaired leg near the prediction stands in.
-  if (config_.single_leg_radius_m > 0) {
-    std::vector<char> paired(det.legs.size(), 0);
-    for (const auto& p : det.people) paired[p.legs[0]] = paired[p.legs[1]] = 1;
-    for (const auto& t : persons_.tracks()) {
-      const auto w = person_walk_.find(t.id);
-      if (!t.confirmed || t.missed_frames > 1 || w == person_walk_.end() || !w->second.walked)
-        continue;
-      const Eigen::Vector2d predicted = t.position() + t.velocity() * (stamp_s - t.stamp_s);
-      bool has_pair = false;
-      for (const auto& q : people_world)
-        has_pair = has_pair || (q - predicted).norm() < config_.single_leg_radius_m;
-      if (has_pair) continue;
-      int best = -1;
-      double best_d = config_.single_leg_radius_m;
-      for (std::size_t i = 0; i < det.legs.size(); ++i) {
-        if (paired[i]) continue;
-        const double d = (out.pose * det.legs[i].position_m - predicted).norm();
-        if (d < best_d) {
-          best_d = d;
-          best = int(i);
-        }
-      }
-      if (best < 0) continue;
-      paired[std::size_t(best)] = 1;
-      det.people.push_back(
-          {det.legs[std::size_t(best)].position_m, {std::size_t(best), std::size_t(best)}});
-      people_world.push_back(out.pose * det.legs[std::size_t(best)].position_m);
-    }
+  // 4. People: the legs off occupied space tracked jointly in the fixed frame (the occupancy
+  // grid of non-person returns also forbids person tracks to stay on occupied cells).
+  const auto joint = persons_joint_.update(stamp_s, obs, out.pose, &occupancy_);
+  std::vector<Eigen::Vector2d> reported_world;
+  for (const auto id : joint.reported) {
+    const JointTrack* t = persons_joint_.find(id);
+    out.people.push_back({out.pose.inverse() * t->position(), t->position(), id});
+    reported_world.push_back(t->position());
   }
-  const auto person_update = persons_.update(stamp_s, people_world);
-  for (std::size_t i = 0; i < det.people.size(); ++i) {
-    const auto id = person_update.track_of_detection[i];
+  persons_.update(stamp_s, reported_world);
+
+  // The background and the occupancy grids learn only the returns no tracked person explains
+  // (a person standing still must not become occupied space).
+  std::vector<char> person_point(pts.size(), 0);
+  for (std::size_t k = 0; k < obs.size(); ++k) {
+    const auto id = joint.person_of_leg[k];
     if (id < 0) continue;
-    const auto key = std::uint32_t(id);
-    Walk& walk = person_walk_.try_emplace(key, Walk{people_world[i]}).first->second;
-    walk.walked =
-        walk.walked || (people_world[i] - walk.first_m).norm() >= config_.person_min_travel_m;
-    const Track* t = persons_.find(key);
-    if (t && t->confirmed && walk.walked)
-      out.people.push_back({det.people[i].position_m, people_world[i], key});
+    const JointTrack* t = persons_joint_.find(std::uint32_t(id));
+    // Reported persons, a pair standing in the follow zone while it is being confirmed, and a
+    // person that walks (its planted foot stands still for a few scans in each stride).
+    if (!t || !(t->reported || t->zone_pair_hits > 0 ||
+                t->filter.velocity().norm() >= config_.walking_speed_m_s))
+      continue;
+    const auto [b, e] = cand_range[obs_cand[k]];
+    std::fill(person_point.begin() + std::ptrdiff_t(b), person_point.begin() + std::ptrdiff_t(e),
+              char(1));
   }
-  prune(person_walk_, persons_);
+  std::vector<Eigen::Vector2d> bg_world, bg_sensor;
+  bg_world.reserve(pts.size());
+  for (std::size_t k = 0; k < pts.size(); ++k)
+    if (!person_point[k]) {
+      bg_world.push_back(world[k]);
+      bg_sensor.push_back(pts[k]);
+    }
+  world_background_.update(bg_world);
+  occupancy_.update(bg_world);
+  if (moving_frame) sensor_occupancy_.update(bg_sensor);
+  if (moving_frame) sensor_background_.update(bg_sensor);
   return out;
 }
 

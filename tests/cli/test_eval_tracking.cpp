@@ -44,12 +44,30 @@ TEST(CliEvalTracking, BenchmarkBagScoresItsWedgeWithTheLegsPipeline) {
   const int fp = j["false_positives"], ids = j["id_switches"];
   EXPECT_EQ(matches + misses, truth);
   EXPECT_NEAR(double(j["mota"]), 1.0 - double(misses + fp + ids) / truth, 1e-12);
-  // The tracker measured when this command was added: no person in the wedge (MOTA 0, recall 0,
-  // no false person). Bounds that catch a regression; the targets (MOTA >= 0.40, recall
-  // >= 0.60, <= 0.05 false persons per scan, <= 5 id switches) are the tracker's to reach.
-  EXPECT_GE(double(j["mota"]), 0.0);
-  EXPECT_LE(double(j["false_positives_per_frame"]), 0.05);
-  EXPECT_LE(ids, 5);
+  // Measured with the joint person tracker: 37 of 133 matched, MOTA 0.241, MOTP 0.10 m, 5 false
+  // persons, no id switch (0 of 133 before it). Bounds that catch a regression; the issue's
+  // targets (MOTA >= 0.40, recall >= 0.60) are not reached yet.
+  EXPECT_GE(matches, 33);
+  EXPECT_GE(double(j["mota"]), 0.20);
+  EXPECT_LT(double(j["motp_m"]), 0.15);
+  EXPECT_LE(double(j["false_positives_per_frame"]), 0.01);
+  EXPECT_LE(ids, 1);
+
+  // --scans scores a range of frames (the tracker still runs on all): every scored annotation
+  // lies in scans 0..436; the tracker's settings were chosen there.
+  const auto first = eval_json(bag + " --scans 0:436");
+  const auto second = eval_json(bag + " --scans 437:872");
+  ASSERT_FALSE(first.is_null());
+  ASSERT_FALSE(second.is_null());
+  EXPECT_EQ(first["frames"], 437);
+  EXPECT_EQ(first["truth_scored"], 133);
+  EXPECT_EQ(first["matches"], j["matches"]);
+  EXPECT_EQ(second["frames"], 436);
+  EXPECT_EQ(second["truth_scored"], 0);
+  EXPECT_LE(int(second["false_positives"]), 2);
+  const auto bad_range = test::run_cli("eval-tracking " + bag + " --scans 10:900");
+  EXPECT_EQ(bad_range.exit_code, 1);
+  EXPECT_NE(bad_range.output.find("--scans"), std::string::npos) << bad_range.output;
 
   // Every bearing: all 153 annotations scored.
   const auto all = eval_json(bag + " --truth-wedge -180 180");

@@ -100,7 +100,6 @@ std::vector<Circle> walker(double t) {
 LegPipeline2DConfig bounds_config() {
   LegPipeline2DConfig c;
   c.detector = default_2d_legs();  // bounds only: no classifier in the library defaults
-  c.person_min_travel_m = 1.0;
   return c;
 }
 
@@ -134,14 +133,35 @@ TEST(LegPipeline2D, AWalkerIsAPersonFurnitureIsNotWhileTheSensorMoves) {
   EXPECT_EQ(ids.size(), 1u);
 }
 
-TEST(LegPipeline2D, NothingBeforeThePersonWalks) {
+// The operator stands 2 m in front of the still sensor for 3 s, then walks off: reported while
+// standing (the target can be chosen before the first step), under one id for the whole walk;
+// the standing legs never become occupied space.
+TEST(LegPipeline2D, AStandingOperatorIsReportedBeforeWalkingAndKeepsTheId) {
   const Room room;
   LegPipeline2D pipeline(bounds_config());
-  for (int k = 0; k < 20; ++k) {  // standing still, legs apart
-    const std::vector<Circle> legs{{{2.0, -0.15}, 0.06}, {{2.0, 0.15}, 0.06}};
-    EXPECT_TRUE(pipeline.process(0.1 * k, scan_from(Eigen::Isometry2d::Identity(), room, legs))
-                    .people.empty());
+  std::set<std::uint32_t> ids;
+  int first_report = -1, reported = 0, false_reports = 0;
+  for (int k = 0; k < 60; ++k) {
+    const double x = 2.0 + (k < 30 ? 0.0 : 0.08 * (k - 30));  // walks off at 0.8 m/s
+    const double swing = k < 30 ? 0.0 : 0.15 * std::sin(0.9 * k);
+    const std::vector<Circle> legs{{{x + swing, -0.15}, 0.06}, {{x - swing, 0.15}, 0.06}};
+    const auto out =
+        pipeline.process(0.1 * k, scan_from(Eigen::Isometry2d::Identity(), room, legs));
+    for (const auto& p : out.people) {
+      if ((p.position_m - Eigen::Vector2d(x, 0.0)).norm() < 0.4) {
+        ids.insert(p.track);
+        ++reported;
+        if (first_report < 0) first_report = k;
+      } else {
+        ++false_reports;
+      }
+    }
   }
+  EXPECT_GE(first_report, 0);
+  EXPECT_LE(first_report, 5);
+  EXPECT_GE(reported, 54);
+  EXPECT_EQ(ids.size(), 1u);
+  EXPECT_EQ(false_reports, 0);
 }
 
 TEST(LegPipeline2D, EmptyAndInvalidScans) {

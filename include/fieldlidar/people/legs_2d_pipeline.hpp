@@ -1,7 +1,7 @@
 #pragma once
 /// \file Legs and people in a stream of 2D laser scans (seed 000, steps 3-5, for one ring):
-/// per-scan leg segments, leg tracks that carry evidence from scan to scan, and person tracks
-/// reported only once they walk.
+/// per-scan leg segments, leg tracks that carry evidence from scan to scan, and joint tracks of
+/// a person's two legs reported once confident and walking, or standing in the follow zone.
 ///
 /// One scan alone cannot tell a leg from a chair leg or a table post: real rooms are full of
 /// leg-shaped furniture, and furniture comes in pairs. Over time they differ: furniture stays
@@ -16,10 +16,11 @@
 ///      when its score passes the classifier threshold, or when it continues a leg track whose
 ///      accumulated evidence is positive (a leg seen well in the last scans is still a leg when
 ///      it is half occluded or seen edge-on now);
-///   4. legs closer than dist_max pair into person detections, tracked by PersonTracker in the
-///      fixed frame; a person is reported once its track is confirmed and has moved at least
-///      `person_min_travel_m` from where it was first seen (a person is something leg-shaped
-///      that walks), and from then on while tracked.
+///   4. the legs feed JointPersonTracker in the fixed frame: a person is updated by its pair of
+///      legs or by one leg (the other hidden), gains confidence from its legs' scores, and is
+///      reported once confident and walking, or standing in the follow zone in front of the
+///      sensor; the world background is its occupancy grid of non-person returns (no track
+///      lives there), and learns only the returns that no tracked person explains.
 /// Positions: sensor frame (x forward, y left) unless named `_world`; metres, seconds.
 
 #include <cstdint>
@@ -30,6 +31,7 @@
 
 #include <Eigen/Geometry>
 
+#include "fieldlidar/people/joint_person_tracker.hpp"
 #include "fieldlidar/people/leg_detector.hpp"
 #include "fieldlidar/people/scan_matcher_2d.hpp"
 #include "fieldlidar/people/static_background.hpp"
@@ -43,6 +45,18 @@ struct LegPipeline2DConfig {
   bool estimate_ego_motion = true;
   ScanMatcher2DConfig scan_matcher;
   StaticBackgroundConfig background;
+  /// The occupancy grid of non-person returns in which no person track lives (one in the fixed
+  /// frame, one in the sensor frame when the sensor moves): it learns faster than `background`
+  /// (a cell is occupied after ~2 scans of returns), so that furniture seen while the robot
+  /// drives or turns holds no track; the reported legs are not filtered by it (standing people's
+  /// legs would be lost: positive_4 leg recall 0.45).
+  StaticBackgroundConfig occupancy = [] {
+    StaticBackgroundConfig o;
+    o.rate = 0.15;
+    o.static_occupancy = 0.2;
+    o.warmup_scans = 3;
+    return o;
+  }();
   /// Classifier score a segment needs to be tracked as a possible leg (below the classifier's
   /// own threshold, so that a track can carry a leg through a few weak scans).
   double candidate_score_min = -3.0;
@@ -62,18 +76,20 @@ struct LegPipeline2DConfig {
     t.max_speed_m_s = 6.0;
     return t;
   }();
-  /// Person tracks: confirmed after 5 paired-leg detections (0.5 s at 10 Hz).
+  /// A leg carried by its track's evidence through a scan where its own score is not above the
+  /// classifier's threshold counts with this score in the person tracker.
+  double carried_leg_score = 0.3;
+  /// The returns of a person track at least this fast are kept out of the occupancy grid (m/s).
+  double walking_speed_m_s = 1.0;
+  /// People: the legs tracked jointly (joint_person_tracker.hpp).
+  JointTrackerConfig joint;
+  /// The reported persons are also fed to this tracker (person_tracker(); its own ids).
   TrackerConfig person_tracker = [] {
     TrackerConfig t;
-    t.confirm_hits = 5;
+    t.confirm_hits = 1;
     t.delete_after_miss_s = 1.0;
     return t;
   }();
-  /// A person track is reported once it has moved this far from its first detection (m).
-  double person_min_travel_m = 1.0;
-  /// A reported person seen with one leg only: the nearest unpaired leg within this of the
-  /// track's prediction updates it (m; 0 = only paired legs update people).
-  double single_leg_radius_m = 0.35;
 };
 
 struct PipelineLeg {
@@ -90,7 +106,7 @@ struct PipelinePerson {
 
 struct LegPipeline2DOutput {
   std::vector<PipelineLeg> legs;
-  std::vector<PipelinePerson> people;  ///< confirmed persons that have walked
+  std::vector<PipelinePerson> people;  ///< reported persons (JointPersonTracker)
   /// Paired leg detections of this scan before the person tracker (seed 000, step 3 output).
   std::size_t person_detections = 0;
   Eigen::Isometry2d pose = Eigen::Isometry2d::Identity();  ///< sensor -> fixed frame
@@ -106,6 +122,9 @@ class LegPipeline2D {
   /// Stamps must not decrease.
   LegPipeline2DOutput process(double stamp_s, std::span<const Eigen::Vector2d> points,
                               const std::optional<Eigen::Isometry2d>& pose = std::nullopt);
+  /// The person tracks (ids as in LegPipeline2DOutput::people).
+  const JointPersonTracker& joint_tracker() const { return persons_joint_; }
+  /// A PersonTracker fed with the reported persons (fixed frame); its ids are its own.
   const PersonTracker& person_tracker() const { return persons_; }
   PersonTracker& person_tracker() { return persons_; }
   const LegPipeline2DConfig& config() const { return config_; }
@@ -113,14 +132,10 @@ class LegPipeline2D {
  private:
   LegPipeline2DConfig config_;
   ScanOdometry2D odometry_;
-  StaticBackground world_background_, sensor_background_;
+  StaticBackground world_background_, sensor_background_, occupancy_, sensor_occupancy_;
   PersonTracker legs_, persons_;
+  JointPersonTracker persons_joint_;
   std::unordered_map<std::uint32_t, double> leg_evidence_;
-  struct Walk {
-    Eigen::Vector2d first_m;  ///< fixed frame, where the track was first seen
-    bool walked = false;      ///< has been person_min_travel_m from there
-  };
-  std::unordered_map<std::uint32_t, Walk> person_walk_;
 };
 
 }  // namespace fieldlidar::people

@@ -1,0 +1,100 @@
+// JointPersonTracker on leg observations built in code (the same input the 3D path's legs give):
+// a person standing in the follow zone, then walking off; one leg hidden behind the other; a
+// post on occupied space; a pair of legs standing far from the zone.
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <vector>
+
+#include "fieldlidar/people/joint_person_tracker.hpp"
+
+namespace fieldlidar::people {
+namespace {
+
+std::vector<LegObservation> two_legs(const Eigen::Vector2d& body, double phase, double score = 1) {
+  return {{body + Eigen::Vector2d(0.12 * phase, 0.14), score},
+          {body + Eigen::Vector2d(-0.12 * phase, -0.14), score}};
+}
+
+// The operator stands 1.8 m in front of the sensor for 5 s at 10 Hz, then walks off ahead: the
+// track is reported while standing (the target can be chosen before the first step) and keeps
+// its id for the whole walk, also through scans where one leg hides the other.
+TEST(JointPersonTracker, StandingThenWalkingOperatorIsReportedBeforeTheFirstStep) {
+  JointPersonTracker tracker;
+  std::set<std::uint32_t> ids;
+  int first_report = -1, reported_walking = 0, walking_scans = 0;
+  for (int k = 0; k < 100; ++k) {
+    const double t = 0.1 * k;
+    const bool walking = k >= 50;
+    const Eigen::Vector2d body(1.8 + (walking ? 0.1 * (k - 50) : 0.0), 0.0);
+    auto legs = two_legs(body, walking ? ((k % 6) - 2.5) / 2.5 : 0.2);
+    if (walking && k % 6 == 0) legs.pop_back();  // one leg behind the other
+    const auto upd = tracker.update(t, legs, Eigen::Isometry2d::Identity());
+    walking_scans += walking;
+    for (const auto id : upd.reported) {
+      ids.insert(id);
+      if (first_report < 0) first_report = k;
+      if (walking) {
+        ++reported_walking;
+        EXPECT_LT((tracker.find(id)->position() - body).norm(), 0.3);
+      }
+    }
+  }
+  EXPECT_GE(first_report, 0);
+  EXPECT_LE(first_report, 8);  // under a second standing
+  EXPECT_EQ(reported_walking, walking_scans);
+  EXPECT_EQ(ids.size(), 1u);
+}
+
+TEST(JointPersonTracker, OneLegAloneKeepsTheTrack) {
+  JointPersonTracker tracker;
+  for (int k = 0; k < 10; ++k)
+    tracker.update(0.1 * k, two_legs({2.0, 1.0}, 0.2), Eigen::Isometry2d::Identity());
+  ASSERT_EQ(tracker.tracks().size(), 1u);
+  const auto id = tracker.tracks()[0].id;
+  for (int k = 10; k < 20; ++k) {
+    const std::vector<LegObservation> one{{{2.0 + 0.12, 1.14}, 1.0}};
+    const auto upd = tracker.update(0.1 * k, one, Eigen::Isometry2d::Identity());
+    ASSERT_EQ(upd.reported.size(), 1u);
+    EXPECT_EQ(upd.reported[0], id);
+    EXPECT_EQ(upd.person_of_leg[0], std::int64_t(id));
+  }
+}
+
+// A leg-shaped post stands on cells the occupancy grid has seen occupied for many scans: no
+// track is born there.
+TEST(JointPersonTracker, NoTrackOnOccupiedSpace) {
+  StaticBackgroundConfig gc;
+  gc.warmup_scans = 3;
+  gc.rate = 0.15;
+  gc.static_occupancy = 0.2;
+  StaticBackground grid(gc);
+  const std::vector<Eigen::Vector2d> post{{3.0, 0.0}, {3.0, 0.3}};
+  for (int k = 0; k < 10; ++k) grid.update(post);
+  JointPersonTracker tracker;
+  for (int k = 0; k < 20; ++k) {
+    const std::vector<LegObservation> legs{{post[0], 2.0}, {post[1], 2.0}};
+    const auto upd = tracker.update(0.1 * k, legs, Eigen::Isometry2d::Identity(), &grid);
+    EXPECT_TRUE(upd.reported.empty());
+  }
+  EXPECT_TRUE(tracker.tracks().empty());
+}
+
+// Weak legs (scores below the classifier threshold) never build a person.
+TEST(JointPersonTracker, WeakLegsAreNoPerson) {
+  JointPersonTracker tracker;
+  for (int k = 0; k < 30; ++k)
+    EXPECT_TRUE(
+        tracker.update(0.1 * k, two_legs({2.0, 0.0}, 0.2, -0.5), Eigen::Isometry2d::Identity())
+            .reported.empty());
+}
+
+TEST(JointPersonTracker, TimeMustNotGoBack) {
+  JointPersonTracker tracker;
+  tracker.update(1.0, {}, Eigen::Isometry2d::Identity());
+  EXPECT_THROW(tracker.update(0.5, {}, Eigen::Isometry2d::Identity()), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fieldlidar::people
