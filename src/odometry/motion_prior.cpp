@@ -96,7 +96,10 @@ LidarOdometry::Prior LidarOdometry::predict(double stamp_s, std::vector<std::str
                                     config_.deskew)) {
     prior.sweep = std::move(sweep->motion);
     if (!initialised_) prior.source = sweep->source;
-  } else if (config_.deskew.constant_velocity) {
+  } else if (config_.deskew.constant_velocity &&
+             last_period <= config_.deskew.constant_velocity_max_period_factor * period) {
+    // Only from consecutive sweeps: a velocity averaged over a longer gap (frames dropped, a
+    // 2 Hz recording) says little about the motion within this sweep.
     prior.sweep =
         SweepMotion::constant_velocity(scale_motion(T_last_delta_, period / last_period), period);
   }
