@@ -26,14 +26,22 @@ std::vector<std::vector<std::uint32_t>> ring_lists(const PointCloud& cloud,
 }
 
 /// Curvature of each position of one ring, -1 where the window is short or unreliable.
+/// Per-ring work arrays, kept by the caller across rings.
+struct RingScratch {
+  std::vector<Eigen::Vector3f> p;
+  std::vector<float> r, gaps;
+  std::vector<std::uint8_t> bad;
+};
+
 void ring_curvature(const PointCloud& cloud, const std::vector<std::uint32_t>& idx, int n,
-                    const FeatureConfig* cfg, std::vector<float>& c) {
+                    const FeatureConfig* cfg, std::vector<float>& c, RingScratch& scratch) {
   const int m = int(idx.size());
   c.assign(m, -1.f);
   if (m < 2 * n + 1) return;
-  thread_local std::vector<Eigen::Vector3f> p;
-  thread_local std::vector<float> r, gaps;
-  thread_local std::vector<std::uint8_t> bad;
+  auto& p = scratch.p;
+  auto& r = scratch.r;
+  auto& gaps = scratch.gaps;
+  auto& bad = scratch.bad;
   p.resize(m);
   r.resize(m);
   for (int k = 0; k < m; ++k) {
@@ -101,8 +109,9 @@ std::vector<float> curvature(const PointCloud& cloud, std::span<const std::uint1
                              int neighbours) {
   std::vector<float> out(cloud.size(), -1.f);
   std::vector<float> c;
+  RingScratch scratch;
   for (const auto& idx : ring_lists(cloud, rings, {})) {
-    ring_curvature(cloud, idx, neighbours, nullptr, c);
+    ring_curvature(cloud, idx, neighbours, nullptr, c, scratch);
     for (std::size_t k = 0; k < idx.size(); ++k) out[idx[k]] = c[k];
   }
   return out;
@@ -118,8 +127,9 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
   std::vector<float> c;
   std::vector<int> order;
   std::vector<std::uint8_t> picked;
+  RingScratch scratch;
   for (const auto& idx : ring_lists(cloud, rings, allowed)) {
-    ring_curvature(cloud, idx, n, &config, c);
+    ring_curvature(cloud, idx, n, &config, c, scratch);
     const int m = int(idx.size());
     picked.assign(m, 0);
     // Marks the neighbours of a chosen point so that features spread along the ring.

@@ -188,11 +188,12 @@ Fit fit(const std::vector<Eigen::Vector3f>& pts) {
   return f;
 }
 
-thread_local std::vector<Eigen::Vector3f> scratch;
+thread_local std::vector<Eigen::Vector3f> tls_scratch;
 
 }  // namespace
 
 std::optional<Correspondence> LocalMap::match_edge(const Eigen::Vector3f& point_world) const {
+  auto& scratch = tls_scratch;  // one thread_local look-up per call
   if (edges_.nearest(point_world, scratch) < std::size_t(config_.neighbours)) return std::nullopt;
   const Fit f = fit(scratch);
   if (f.values(2) < config_.min_line_ratio * f.values(1)) return std::nullopt;
@@ -200,6 +201,7 @@ std::optional<Correspondence> LocalMap::match_edge(const Eigen::Vector3f& point_
 }
 
 std::optional<Correspondence> LocalMap::match_plane(const Eigen::Vector3f& point_world) const {
+  auto& scratch = tls_scratch;  // one thread_local look-up per call
   if (planes_.nearest(point_world, scratch) < std::size_t(config_.neighbours)) return std::nullopt;
   const Fit f = fit(scratch);
   if (f.values(1) < config_.min_plane_spread * f.values(2)) return std::nullopt;
