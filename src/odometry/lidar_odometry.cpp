@@ -56,8 +56,9 @@ OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
   result.motion_source = prior.source;
   // The sweep is registered at its reference time (mid-sweep or start), T_start_ref apart.
   const bool skew = config_.deskew.enabled && !prior.sweep.empty();
-  const double t_ref =
-      skew && config_.deskew.mid_sweep_reference ? 0.5 * prior.sweep.last_time_s() : 0.0;
+  const double t_ref = skew && prior.sweep_from_velocity && config_.deskew.mid_sweep_reference
+                           ? 0.5 * prior.sweep.last_time_s()
+                           : 0.0;
   const Pose T_start_ref = skew ? prior.sweep.at(t_ref) : Pose::Identity();
   // The sensor's own geometry first (an intrinsic correction), then the motion.
   PointCloud corrected;

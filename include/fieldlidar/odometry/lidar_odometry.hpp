@@ -93,6 +93,7 @@ class LidarOdometry {
     Pose T_world_lidar;
     SweepMotion sweep;
     MotionSource source = MotionSource::kConstantVelocity;
+    bool sweep_from_velocity = false;  ///< `sweep` is the last motion carried on
   };
   Prior predict(double stamp_s, std::vector<std::string>& warnings);
   void register_features(const Features& features, const Pose& prior, OdometryResult& result);
@@ -114,6 +115,7 @@ class LidarOdometry {
   Eigen::Vector3d gravity_world_m_s2_ = Eigen::Vector3d(0, 0, 9.80665);
   std::size_t frames_ = 0;
   bool initialised_ = false;
+  bool streams_given_ = false;  ///< IMU or wheel samples were ever added
 };
 
 }  // namespace fieldlidar::odometry
