@@ -36,6 +36,7 @@ struct OdometryOptions {
   std::string input, imu, odom, map_in, out, sensor;
   std::vector<double> initial_pose;  ///< x y z roll pitch yaw (m, deg) in the map
   bool frame_to_frame = false, lidar_only = false, force = false;
+  double elevation_correction_deg = 0.0;
 };
 
 /// A line "Name:  value kB" of /proc/self/status in MB (0 where there is none, e.g. not Linux).
@@ -52,10 +53,10 @@ struct DegenerateStretch {
   std::size_t first = 0, last = 0;
   double smallest = 0;
   bool open = false;
-  void add(std::size_t frame, double eigenvalue) {
-    if (!open) first = frame, smallest = eigenvalue, open = true;
+  void add(std::size_t frame, double ratio) {
+    if (!open) first = frame, smallest = ratio, open = true;
     last = frame;
-    smallest = std::min(smallest, eigenvalue);
+    smallest = std::min(smallest, ratio);
   }
   void flush() {
     if (!open) return;
@@ -63,7 +64,7 @@ struct DegenerateStretch {
     fmt::print(stderr, "\r");
     warn(
         fmt::format("frames {}-{}: degenerate geometry, a direction weakly constrained "
-                    "(smallest eigenvalue {:.3g})",
+                    "(information ratio down to {:.3g})",
                     first, last, smallest));
   }
 };
@@ -168,6 +169,7 @@ void run_odometry(const OdometryOptions& o) {
   if (o.lidar_only) imu_path.clear(), odom_path.clear();
   auto source = io::FrameSource::open(input);
   if (o.frame_to_frame) cfg.target = odometry::MatchTarget::kPreviousFrame;
+  cfg.preprocess.elevation_correction_deg = o.elevation_correction_deg;
   nlohmann::json memory = nlohmann::json::array();
   std::unique_ptr<odometry::LidarOdometry> odo;
   Trajectory poses;
@@ -206,7 +208,7 @@ void run_odometry(const OdometryOptions& o) {
     degenerate += r.degenerate;
     unregistered += !r.registered && frame->index > 0;
     if (r.degenerate)
-      stretch.add(frame->index, r.eigenvalues(0));
+      stretch.add(frame->index, r.information_ratio.minCoeff());
     else
       stretch.flush();
     frame_ms.push_back(r.timings.total_ms);
@@ -269,6 +271,9 @@ void add_odometry_command(CLI::App& app) {
       ->expected(6);
   cmd->add_option("--sensor", o->sensor, "Sensor preset when the input does not say");
   cmd->add_flag("--frame-to-frame", o->frame_to_frame, "Seed 002 matching against the last frame");
+  cmd->add_option("--elevation-correction", o->elevation_correction_deg,
+                  "Added to every point's elevation (deg): 0.22 for KITTI's HDL-64E clouds")
+      ->check(CLI::Range(-2.0, 2.0));
   cmd->add_flag("--lidar-only", o->lidar_only,
                 "Ignore IMU and wheels (also those of a simulator folder)");
   cmd->add_option("-o,--out", o->out, "Output folder")->required();

@@ -6,11 +6,6 @@
 
 namespace fieldlidar {
 
-bool Point::is_valid() const {
-  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return false;
-  return x != 0.f || y != 0.f || z != 0.f;
-}
-
 void PointCloud::clear() {
   points.clear();
   labels.clear();

@@ -51,15 +51,16 @@ std::vector<float> point_times(const PointCloud& cloud, const DeskewConfig& conf
 }
 
 PointCloud deskew(const PointCloud& cloud, std::span<const float> times_s,
-                  const SweepMotion& motion) {
+                  const SweepMotion& motion, double reference_s) {
   PointCloud out = cloud;
   if (motion.empty()) return out;
   // Poses at a few fixed time steps, linear between them: the motion within a sweep is smooth.
   constexpr int kSteps = 32;
   const double t_end = std::max(motion.last_time_s(), 1e-6);
+  const Pose T_ref_start = motion.at(reference_s).inverse();
   std::vector<Eigen::Matrix<float, 3, 4>> table(kSteps + 1);
   for (int k = 0; k <= kSteps; ++k)
-    table[k] = motion.at(t_end * k / kSteps).matrix().topRows<3>().cast<float>();
+    table[k] = (T_ref_start * motion.at(t_end * k / kSteps)).matrix().topRows<3>().cast<float>();
   for (std::size_t i = 0; i < out.size(); ++i) {
     auto& p = out.points[i];
     if (!p.is_valid()) continue;

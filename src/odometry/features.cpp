@@ -26,13 +26,24 @@ std::vector<std::vector<std::uint32_t>> ring_lists(const PointCloud& cloud,
 }
 
 /// Curvature of each position of one ring, -1 where the window is short or unreliable.
+/// Per-ring work arrays, kept by the caller across rings.
+struct RingScratch {
+  std::vector<Eigen::Vector3f> p;
+  std::vector<float> r, gaps;
+  std::vector<std::uint8_t> bad;
+};
+
 void ring_curvature(const PointCloud& cloud, const std::vector<std::uint32_t>& idx, int n,
-                    const FeatureConfig* cfg, std::vector<float>& c) {
+                    const FeatureConfig* cfg, std::vector<float>& c, RingScratch& scratch) {
   const int m = int(idx.size());
   c.assign(m, -1.f);
   if (m < 2 * n + 1) return;
-  std::vector<Eigen::Vector3f> p(m);
-  std::vector<float> r(m);
+  auto& p = scratch.p;
+  auto& r = scratch.r;
+  auto& gaps = scratch.gaps;
+  auto& bad = scratch.bad;
+  p.resize(m);
+  r.resize(m);
   for (int k = 0; k < m; ++k) {
     p[k] = cloud.points[idx[k]].xyz();
     r[k] = p[k].norm();
@@ -47,9 +58,11 @@ void ring_curvature(const PointCloud& cloud, const std::vector<std::uint32_t>& i
   }
   if (!cfg) return;
   // LOAM's unreliable points: the farther side of an occlusion, surfaces parallel to the beam.
-  std::vector<std::uint8_t> bad(m, 0);
+  bad.assign(m, 0);
+  gaps.resize(m - 1);  // gaps[k] = |p[k+1] - p[k]|
+  for (int k = 0; k + 1 < m; ++k) gaps[k] = (p[k + 1] - p[k]).norm();
   for (int k = 0; k + 1 < m; ++k) {
-    const float gap = (p[k + 1] - p[k]).norm();
+    const float gap = gaps[k];
     const float lim = std::max(float(cfg->max_neighbour_gap_m),
                                float(cfg->occlusion_ratio) * std::min(r[k], r[k + 1]));
     if (gap <= lim) continue;
@@ -64,21 +77,30 @@ void ring_curvature(const PointCloud& cloud, const std::vector<std::uint32_t>& i
   }
   for (int k = 1; k + 1 < m; ++k) {
     const float lim = 0.02f * r[k];
-    if ((p[k + 1] - p[k]).norm() > lim && (p[k] - p[k - 1]).norm() > lim) bad[k] = 1;
+    if (gaps[k] > lim && gaps[k - 1] > lim) bad[k] = 1;
     if (r[k] < cfg->min_range_m || r[k] > cfg->max_range_m) bad[k] = 1;
   }
   for (int k = 0; k < m; ++k)
     if (bad[k]) c[k] = -1.f;
 }
 
-/// Puts the `head` first elements of `order` by `before` at its front, in that order (ties by
-/// index): a selection in linear time, then a sort of the head only.
-template <class Before>
-void select_head(std::vector<int>& order, std::size_t head, Before before) {
+/// Visits the first `limit` elements of `order` in the order of `before` (ties by index) until
+/// `visit` returns false. Only what is visited gets sorted: chunks picked by nth_element, each
+/// twice the last, so a sector whose first few candidates suffice costs one linear pass.
+template <class Before, class Visit>
+void visit_sorted(std::vector<int>& order, std::size_t limit, std::size_t chunk, Before before,
+                  Visit visit) {
   const auto less = [&](int a, int b) { return before(a, b) || (!before(b, a) && a < b); };
-  if (head < order.size())
-    std::nth_element(order.begin(), order.begin() + long(head), order.end(), less);
-  std::sort(order.begin(), order.begin() + long(head), less);
+  const std::size_t end = std::min(limit, order.size());
+  for (std::size_t done = 0; done < end; chunk *= 2) {
+    const std::size_t next = std::min(end, done + std::max<std::size_t>(chunk, 1));
+    const auto first = order.begin() + long(done), last = order.begin() + long(next);
+    if (next < order.size()) std::nth_element(first, last, order.end(), less);
+    std::sort(first, last, less);
+    for (auto it = first; it != last; ++it)
+      if (!visit(*it)) return;
+    done = next;
+  }
 }
 
 }  // namespace
@@ -87,8 +109,9 @@ std::vector<float> curvature(const PointCloud& cloud, std::span<const std::uint1
                              int neighbours) {
   std::vector<float> out(cloud.size(), -1.f);
   std::vector<float> c;
+  RingScratch scratch;
   for (const auto& idx : ring_lists(cloud, rings, {})) {
-    ring_curvature(cloud, idx, neighbours, nullptr, c);
+    ring_curvature(cloud, idx, neighbours, nullptr, c, scratch);
     for (std::size_t k = 0; k < idx.size(); ++k) out[idx[k]] = c[k];
   }
   return out;
@@ -104,8 +127,9 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
   std::vector<float> c;
   std::vector<int> order;
   std::vector<std::uint8_t> picked;
+  RingScratch scratch;
   for (const auto& idx : ring_lists(cloud, rings, allowed)) {
-    ring_curvature(cloud, idx, n, &config, c);
+    ring_curvature(cloud, idx, n, &config, c, scratch);
     const int m = int(idx.size());
     picked.assign(m, 0);
     // Marks the neighbours of a chosen point so that features spread along the ring.
@@ -123,31 +147,34 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
       order.clear();
       for (int k = b; k < e; ++k)
         if (c[k] >= C) order.push_back(k);
-      const auto edge_head = std::min<std::size_t>(order.size(), 8 * config.edges_per_sector);
-      select_head(order, edge_head, [&](int a, int b2) { return c[a] > c[b2]; });
       int taken = 0;
-      for (std::size_t h = 0; h < edge_head; ++h) {
-        const int k = order[h];
-        if (taken >= config.edges_per_sector) break;
-        if (picked[k] || (!plane_only.empty() && plane_only[idx[k]])) continue;
-        (c[k] >= (1 + C) / 2 ? strong_e : weak_e).push_back(cloud.points[idx[k]].xyz());
-        suppress(k);
-        ++taken;
-      }
-      // Planes: the smallest c first; only the head of the order is needed.
+      visit_sorted(
+          order, 8 * std::size_t(config.edges_per_sector), 2 * std::size_t(config.edges_per_sector),
+          [&](int a, int b2) { return c[a] > c[b2]; },
+          [&](int k) {
+            if (taken >= config.edges_per_sector) return false;
+            if (picked[k] || (!plane_only.empty() && plane_only[idx[k]])) return true;
+            (c[k] >= (1 + C) / 2 ? strong_e : weak_e).push_back(cloud.points[idx[k]].xyz());
+            suppress(k);
+            ++taken;
+            return true;
+          });
+      // Planes: the smallest c first.
       order.clear();
       for (int k = b; k < e; ++k)
         if (c[k] >= 0 && c[k] < C) order.push_back(k);
-      const auto head = std::min<std::size_t>(order.size(), 8 * config.planes_per_sector);
-      select_head(order, head, [&](int a, int b2) { return c[a] < c[b2]; });
       taken = 0;
-      for (std::size_t h = 0; h < head && taken < config.planes_per_sector; ++h) {
-        const int k = order[h];
-        if (picked[k]) continue;
-        (c[k] < C / 2 ? strong_p : weak_p).push_back(cloud.points[idx[k]].xyz());
-        suppress(k);
-        ++taken;
-      }
+      visit_sorted(
+          order, 8 * std::size_t(config.planes_per_sector),
+          2 * std::size_t(config.planes_per_sector), [&](int a, int b2) { return c[a] < c[b2]; },
+          [&](int k) {
+            if (taken >= config.planes_per_sector) return false;
+            if (picked[k]) return true;
+            (c[k] < C / 2 ? strong_p : weak_p).push_back(cloud.points[idx[k]].xyz());
+            suppress(k);
+            ++taken;
+            return true;
+          });
     }
     int stride = 0;
     for (int k = 0; k < m; ++k) {

@@ -54,9 +54,22 @@ OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
   auto t = Clock::now();
   const Prior prior = predict(cloud.stamp_s, result.warnings);
   result.motion_source = prior.source;
-  const PointCloud swept = config_.deskew.enabled
-                               ? deskew(cloud, point_times(cloud, config_.deskew), prior.sweep)
-                               : cloud;
+  // The sweep is registered at its reference time (mid-sweep or start), T_start_ref apart.
+  const bool skew = config_.deskew.enabled && !prior.sweep.empty();
+  const double t_ref = skew && prior.sweep_from_velocity && config_.deskew.mid_sweep_reference
+                           ? 0.5 * prior.sweep.last_time_s()
+                           : 0.0;
+  const Pose T_start_ref = skew ? prior.sweep.at(t_ref) : Pose::Identity();
+  // The sensor's own geometry first (an intrinsic correction), then the motion.
+  PointCloud corrected;
+  const PointCloud* raw = &cloud;
+  if (config_.preprocess.elevation_correction_deg != 0.0) {
+    corrected = cloud;
+    correct_elevation(corrected, config_.preprocess.elevation_correction_deg * M_PI / 180.0);
+    raw = &corrected;
+  }
+  const PointCloud swept =
+      skew ? deskew(*raw, point_times(*raw, config_.deskew), prior.sweep, t_ref) : *raw;
   result.timings.deskew_ms = ms_since(t);
 
   // b, c. rings, ground, clusters; curvature features.
@@ -72,22 +85,27 @@ OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
 
   // d. match against the local map (or the previous sweep) by Levenberg-Marquardt.
   t = Clock::now();
-  result.T_world_lidar = prior.T_world_lidar;
-  if (!map_.empty()) register_features(features, prior.T_world_lidar, result);
+  const Pose prior_ref = prior.T_world_lidar * T_start_ref;
+  result.T_world_lidar = prior_ref;
+  if (!map_.empty()) register_features(features, prior_ref, result);
   result.timings.match_ms = ms_since(t);
 
   // e. into the world frame: the map grows.
   t = Clock::now();
   const bool first = !initialised_;
-  if (result.registered || first) update_map(features, result.T_world_lidar);
+  const Pose T_world_ref = result.T_world_lidar;
+  if (result.registered || first) update_map(features, T_world_ref);
   result.timings.map_ms = ms_since(t);
 
-  // Motion for the next prediction.
+  // Motion for the next prediction, between reference poses (they do not depend on the de-skew
+  // velocity); the pose reported is the sweep start's.
+  result.T_world_lidar = T_world_ref * T_start_ref.inverse();
   if (initialised_) {
     const double dt = cloud.stamp_s - last_stamp_s_;
-    T_last_delta_ = T_world_lidar_.inverse() * result.T_world_lidar;
+    T_last_delta_ = T_world_ref_.inverse() * T_world_ref;
     last_period_s_ = dt > 0 ? dt : config_.expected_period_s;
   }
+  T_world_ref_ = T_world_ref;
   T_world_lidar_ = result.T_world_lidar;
   if (!initialised_ || cloud.stamp_s > last_stamp_s_) last_stamp_s_ = cloud.stamp_s;
   initialised_ = true;
@@ -176,6 +194,7 @@ bool LidarOdometry::match_rounds(const LocalMap& map, const Features& features, 
     result.iterations += lm.iterations;
     result.degenerate = lm.degenerate;
     result.eigenvalues = lm.eigenvalues;
+    result.information_ratio = lm.information_ratio;
     const Pose step = lm.T_world_lidar * T.inverse();
     T = lm.T_world_lidar;
     registered = true;

@@ -12,16 +12,74 @@
 namespace fieldlidar::odometry {
 
 VoxelMap::Key VoxelMap::key_of(const Eigen::Vector3f& p) const {
-  const float inv = float(1.0 / config_.voxel_m);
-  return {std::int32_t(std::floor(p.x() * inv)), std::int32_t(std::floor(p.y() * inv)),
-          std::int32_t(std::floor(p.z() * inv))};
+  const float inv = inv_voxel_;
+  // floor without a libm call: truncate, then one down for negative non-integers.
+  const auto fl = [](float v) {
+    const auto i = std::int32_t(v);
+    return i - std::int32_t(v < float(i));
+  };
+  return {fl(p.x() * inv), fl(p.y() * inv), fl(p.z() * inv)};
+}
+
+namespace {
+
+std::size_t hash_key(std::int32_t x, std::int32_t y, std::int32_t z) {
+  std::uint64_t h = std::uint64_t(std::uint32_t(x)) * 0x9E3779B97F4A7C15ull;
+  h ^= std::uint64_t(std::uint32_t(y)) * 0xC2B2AE3D27D4EB4Full;
+  h ^= std::uint64_t(std::uint32_t(z)) * 0x165667B19E3779F9ull;
+  return std::size_t(h ^ (h >> 29));
+}
+
+}  // namespace
+
+std::int32_t VoxelMap::find(const Key& k) const {
+  if (table_.empty()) return -1;
+  const std::size_t mask = table_.size() - 1;
+  for (std::size_t i = hash_key(k.x, k.y, k.z) & mask;; i = (i + 1) & mask) {
+    const std::int32_t slot = table_[i];
+    if (slot == 0) return -1;
+    if (cells_[std::size_t(slot - 1)].key == k) return slot - 1;
+  }
+}
+
+std::int32_t VoxelMap::find_or_add(const Key& k) {
+  if (2 * (cells_.size() + 1) > table_.size())
+    rebuild_table(std::max<std::size_t>(64, 4 * cells_.size()));
+  const std::size_t mask = table_.size() - 1;
+  for (std::size_t i = hash_key(k.x, k.y, k.z) & mask;; i = (i + 1) & mask) {
+    const std::int32_t slot = table_[i];
+    if (slot != 0 && cells_[std::size_t(slot - 1)].key == k) return slot - 1;
+    if (slot == 0) {
+      cells_.push_back({k, {}});
+      table_[i] = std::int32_t(cells_.size());
+      return std::int32_t(cells_.size() - 1);
+    }
+  }
+}
+
+void VoxelMap::rebuild_table(std::size_t capacity) {
+  std::size_t size = 64;
+  while (size < capacity) size *= 2;
+  table_.assign(size, 0);
+  const std::size_t mask = size - 1;
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    const Key& k = cells_[c].key;
+    std::size_t i = hash_key(k.x, k.y, k.z) & mask;
+    while (table_[i] != 0) i = (i + 1) & mask;
+    table_[i] = std::int32_t(c + 1);
+  }
+}
+
+void VoxelMap::clear() {
+  cells_.clear();
+  table_.clear();
 }
 
 void VoxelMap::insert(std::span<const Eigen::Vector3f> points_world) {
   const float min2 = float(config_.min_point_spacing_m * config_.min_point_spacing_m);
   for (const auto& p : points_world) {
     if (!p.allFinite()) continue;
-    auto& v = voxels_[key_of(p)];
+    auto& v = cells_[std::size_t(find_or_add(key_of(p)))].points;
     if (int(v.size()) >= config_.max_points_per_voxel) continue;
     bool near = false;
     for (const auto& q : v)
@@ -36,9 +94,11 @@ void VoxelMap::insert(std::span<const Eigen::Vector3f> points_world) {
 void VoxelMap::crop(const Eigen::Vector3d& centre_world) {
   const double r2 = config_.max_range_m * config_.max_range_m;
   const Eigen::Vector3f c = centre_world.cast<float>();
-  std::erase_if(voxels_, [&](const auto& kv) {
-    return kv.second.empty() || double((kv.second.front() - c).squaredNorm()) > r2;
+  const std::size_t before = cells_.size();
+  std::erase_if(cells_, [&](const Cell& cell) {
+    return cell.points.empty() || double((cell.points.front() - c).squaredNorm()) > r2;
   });
+  if (cells_.size() != before) rebuild_table(4 * cells_.size());
 }
 
 std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
@@ -49,16 +109,16 @@ std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
   std::array<std::pair<float, Eigen::Vector3f>, 16> best;
   int n = 0;
   const Key c = key_of(query);
-  const float inv = float(1.0 / config_.voxel_m);
+  const float inv = inv_voxel_;
   const int sx = query.x() * inv - float(c.x) < 0.5f ? -1 : 1;
   const int sy = query.y() * inv - float(c.y) < 0.5f ? -1 : 1;
   const int sz = query.z() * inv - float(c.z) < 0.5f ? -1 : 1;
   for (int dx = 0; dx <= 1; ++dx)
     for (int dy = 0; dy <= 1; ++dy)
       for (int dz = 0; dz <= 1; ++dz) {
-        const auto it = voxels_.find({c.x + dx * sx, c.y + dy * sy, c.z + dz * sz});
-        if (it == voxels_.end()) continue;
-        for (const auto& p : it->second) {
+        const std::int32_t cell = find({c.x + dx * sx, c.y + dy * sy, c.z + dz * sz});
+        if (cell < 0) continue;
+        for (const auto& p : cells_[std::size_t(cell)].points) {
           const float d2 = (p - query).squaredNorm();
           if (d2 > max2 || (n == k && d2 >= best[n - 1].first)) continue;
           int j = n < k ? n++ : n - 1;
@@ -76,14 +136,14 @@ std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
 
 std::size_t VoxelMap::size() const {
   std::size_t n = 0;
-  for (const auto& kv : voxels_) n += kv.second.size();
+  for (const auto& cell : cells_) n += cell.points.size();
   return n;
 }
 
 std::vector<Eigen::Vector3f> VoxelMap::points() const {
   std::vector<Eigen::Vector3f> out;
   out.reserve(size());
-  for (const auto& kv : voxels_) out.insert(out.end(), kv.second.begin(), kv.second.end());
+  for (const auto& cell : cells_) out.insert(out.end(), cell.points.begin(), cell.points.end());
   return out;
 }
 
@@ -128,11 +188,12 @@ Fit fit(const std::vector<Eigen::Vector3f>& pts) {
   return f;
 }
 
-thread_local std::vector<Eigen::Vector3f> scratch;
+thread_local std::vector<Eigen::Vector3f> tls_scratch;
 
 }  // namespace
 
 std::optional<Correspondence> LocalMap::match_edge(const Eigen::Vector3f& point_world) const {
+  auto& scratch = tls_scratch;  // one thread_local look-up per call
   if (edges_.nearest(point_world, scratch) < std::size_t(config_.neighbours)) return std::nullopt;
   const Fit f = fit(scratch);
   if (f.values(2) < config_.min_line_ratio * f.values(1)) return std::nullopt;
@@ -140,6 +201,7 @@ std::optional<Correspondence> LocalMap::match_edge(const Eigen::Vector3f& point_
 }
 
 std::optional<Correspondence> LocalMap::match_plane(const Eigen::Vector3f& point_world) const {
+  auto& scratch = tls_scratch;  // one thread_local look-up per call
   if (planes_.nearest(point_world, scratch) < std::size_t(config_.neighbours)) return std::nullopt;
   const Fit f = fit(scratch);
   if (f.values(1) < config_.min_plane_spread * f.values(2)) return std::nullopt;

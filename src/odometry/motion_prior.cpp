@@ -31,9 +31,11 @@ void append_in_order(std::vector<S>& dst, std::span<const S> src) {
 
 void LidarOdometry::add_imu(std::span<const ImuSample> samples) {
   append_in_order(imu_, samples);
+  streams_given_ = streams_given_ || !samples.empty();
 }
 void LidarOdometry::add_wheels(std::span<const WheelSample> samples) {
   append_in_order(wheels_, samples);
+  streams_given_ = streams_given_ || !samples.empty();
 }
 
 void LidarOdometry::trim_streams(double before_s) {
@@ -96,9 +98,13 @@ LidarOdometry::Prior LidarOdometry::predict(double stamp_s, std::vector<std::str
                                     config_.deskew)) {
     prior.sweep = std::move(sweep->motion);
     if (!initialised_) prior.source = sweep->source;
-  } else if (config_.deskew.constant_velocity) {
+  } else if (config_.deskew.constant_velocity && !streams_given_ &&
+             last_period <= config_.deskew.constant_velocity_max_period_factor * period) {
+    // Only from consecutive sweeps: a velocity averaged over a longer gap (frames dropped, a
+    // 2 Hz recording) says little about the motion within this sweep.
     prior.sweep =
         SweepMotion::constant_velocity(scale_motion(T_last_delta_, period / last_period), period);
+    prior.sweep_from_velocity = true;
   }
   return prior;
 }

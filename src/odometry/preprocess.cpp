@@ -2,9 +2,24 @@
 
 #include "fieldlidar/odometry/preprocess.hpp"
 
+#include <cmath>
+
 #include "fieldlidar/segmentation/range_image.hpp"
 
 namespace fieldlidar::odometry {
+
+void correct_elevation(PointCloud& cloud, double angle_rad) {
+  const float c = float(std::cos(angle_rad)), s = float(std::sin(angle_rad));
+  for (auto& p : cloud.points) {
+    if (!p.is_valid()) continue;
+    const float h = std::hypot(p.x, p.y);
+    if (h <= 0.f) continue;
+    const float h2 = h * c - p.z * s;  // (h, z) turned by the angle in the vertical plane
+    p.z = h * s + p.z * c;
+    p.x *= h2 / h;
+    p.y *= h2 / h;
+  }
+}
 
 Preprocessed preprocess(const PointCloud& cloud, const SensorModel& sensor,
                         const PreprocessConfig& config) {

@@ -162,7 +162,7 @@ inline void apply_env(OdometryConfig& c) {
   integer("NPLANE", c.features.planes_per_sector);
   integer("STRIDE", c.features.map_plane_stride);
   num("ROBUST", c.lm.robust_scale_m);
-  num("DEGEN", c.lm.degenerate_eigenvalue);
+  num("DEGEN", c.lm.degenerate_ratio);
   if (std::getenv("HOLDDEGEN")) c.lm.hold_degenerate = true;
   if (std::getenv("NODESKEW")) c.deskew.enabled = false;
   if (std::getenv("CVDESKEW")) c.deskew.constant_velocity = true;

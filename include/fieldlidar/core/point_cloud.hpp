@@ -1,6 +1,7 @@
 #pragma once
 /// \file Point clouds: one LiDAR sweep (or any set of points) with per-point ring and time.
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -24,8 +25,12 @@ struct Point {
   static constexpr std::uint16_t kNoRing = std::numeric_limits<std::uint16_t>::max();
 
   Eigen::Vector3f xyz() const { return {x, y, z}; }
-  /// True when x, y and z are finite and not the all-zero "no return" marker.
-  bool is_valid() const;
+  /// True when x, y and z are finite and not the all-zero "no return" marker. Inline: every
+  /// per-point loop calls it.
+  bool is_valid() const {
+    return std::isfinite(x) && std::isfinite(y) && std::isfinite(z) &&
+           (x != 0.f || y != 0.f || z != 0.f);
+  }
 };
 static_assert(sizeof(Point) == 24);
 

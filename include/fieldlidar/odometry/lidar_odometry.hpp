@@ -60,7 +60,9 @@ struct OdometryResult {
   int iterations = 0;       ///< LM steps over all rounds
   std::size_t inliers = 0;  ///< correspondences of the last round
   std::size_t edge_features = 0, plane_features = 0;
-  bool degenerate = false;  ///< the normal matrix had a degenerate direction (aisle, wall)
+  bool degenerate = false;  ///< a direction barely constrained (LmConfig::degenerate_ratio)
+  /// Smallest / largest eigenvalue of the marginal information on (translation, rotation).
+  Eigen::Vector2d information_ratio = Eigen::Vector2d::Ones();
   Eigen::Matrix<double, 6, 1> eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();
   MotionSource motion_source = MotionSource::kConstantVelocity;
   std::vector<std::string> warnings;  ///< bad input seen (gaps, order, IMU stopped, NaN points)
@@ -91,6 +93,7 @@ class LidarOdometry {
     Pose T_world_lidar;
     SweepMotion sweep;
     MotionSource source = MotionSource::kConstantVelocity;
+    bool sweep_from_velocity = false;  ///< `sweep` is the last motion carried on
   };
   Prior predict(double stamp_s, std::vector<std::string>& warnings);
   void register_features(const Features& features, const Pose& prior, OdometryResult& result);
@@ -105,12 +108,14 @@ class LidarOdometry {
   LocalMap map_;
   std::vector<ImuSample> imu_;
   std::vector<WheelSample> wheels_;
-  Pose T_world_lidar_ = Pose::Identity();
-  Pose T_last_delta_ = Pose::Identity();  ///< previous sweep-to-sweep motion
+  Pose T_world_lidar_ = Pose::Identity();  ///< at the last sweep's start
+  Pose T_world_ref_ = Pose::Identity();    ///< at the last sweep's reference time (DeskewConfig)
+  Pose T_last_delta_ = Pose::Identity();   ///< previous sweep-to-sweep motion
   double last_stamp_s_ = 0.0, last_period_s_ = 0.0;
   Eigen::Vector3d gravity_world_m_s2_ = Eigen::Vector3d(0, 0, 9.80665);
   std::size_t frames_ = 0;
   bool initialised_ = false;
+  bool streams_given_ = false;  ///< IMU or wheel samples were ever added
 };
 
 }  // namespace fieldlidar::odometry
