@@ -279,6 +279,15 @@ OdometrySample parse_odometry(std::span<const std::uint8_t> bytes) {
   return s;
 }
 
+OdometrySample parse_twist_stamped(std::span<const std::uint8_t> bytes) {
+  WireReader r(bytes, "geometry_msgs/TwistStamped");
+  OdometrySample s;
+  s.stamp_s = r.header();
+  s.linear_m_s = r.vector3();
+  s.angular_rad_s = r.vector3();
+  return s;
+}
+
 PoseArraySample parse_pose_array(std::span<const std::uint8_t> bytes) {
   WireReader r(bytes, "geometry_msgs/PoseArray");
   PoseArraySample s;

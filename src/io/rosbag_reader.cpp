@@ -26,6 +26,7 @@ constexpr KnownType kLaserScan{"sensor_msgs/LaserScan", "90c7ef2dc6895d81024acba
 constexpr KnownType kPointCloud2{"sensor_msgs/PointCloud2", "1158d486dd51d683ce2f1be655c3c181"};
 constexpr KnownType kImu{"sensor_msgs/Imu", "6a62c6daae103f4ff57a132d6f95cec2"};
 constexpr KnownType kOdometry{"nav_msgs/Odometry", "cd5e73d190d741a2f92e81eda573aca7"};
+constexpr KnownType kTwistStamped{"geometry_msgs/TwistStamped", "98d34b0043a2093cf9d9345ab6eef12e"};
 constexpr KnownType kPoseArray{"geometry_msgs/PoseArray", "916c28c5764443f268b296bb671b9d97"};
 constexpr KnownType kPerson{"leg_tracker/Person", "4f334171b5664340c323a1982b554a22"};
 
@@ -234,21 +235,62 @@ std::map<std::string, std::size_t> bag_topic_counts(const std::filesystem::path&
   return out;
 }
 
+namespace {
+
+/// The topic `name` of `bag`, checked to be one of `types` (md5 included); its index in `types`.
+std::size_t typed_topic(const std::filesystem::path& path, rosbag::Bag& bag,
+                        const std::string& name, std::initializer_list<KnownType> types) {
+  const auto topics = topics_of(bag);
+  auto it =
+      std::find_if(topics.begin(), topics.end(), [&](const BagTopic& t) { return t.name == name; });
+  if (it == topics.end())
+    throw Error(path.string() + ": no topic '" + name +
+                "' in the bag; topics: " + list_topics(topics));
+  std::string expected;
+  std::size_t k = 0;
+  for (const auto& type : types) {
+    if (is_type(*it, type)) {
+      check_md5(path, *it, type);
+      return k;
+    }
+    expected += std::string(k++ ? " or " : "") + type.datatype;
+  }
+  throw Error(path.string() + ": topic '" + name + "' is " + it->datatype + ", not " + expected +
+              "; topics: " + list_topics(topics));
+}
+
+template <class Sample>
+std::vector<Sample> read_all(const std::filesystem::path& path, rosbag::Bag& bag,
+                             const std::string& topic,
+                             Sample (*parse)(std::span<const std::uint8_t>)) {
+  try {
+    TopicStream<Sample> stream(bag, {topic}, parse, path.string());
+    return stream.until(std::numeric_limits<double>::infinity());
+  } catch (const rosbag::BagException& e) {
+    throw Error(path.string() + ": " + e.what());
+  }
+}
+
+}  // namespace
+
 std::vector<PoseArraySample> read_pose_arrays(const std::filesystem::path& bag,
                                               const std::string& topic) {
   auto b = open_bag(bag);
-  const auto topics = topics_of(*b);
-  auto it = std::find_if(topics.begin(), topics.end(),
-                         [&](const BagTopic& t) { return t.name == topic; });
-  if (it == topics.end())
-    throw Error(bag.string() + ": no topic '" + topic +
-                "' in the bag; topics: " + list_topics(topics));
-  if (!is_type(*it, kPoseArray))
-    throw Error(bag.string() + ": topic '" + topic + "' is " + it->datatype +
-                ", not geometry_msgs/PoseArray");
-  check_md5(bag, *it, kPoseArray);
-  TopicStream<PoseArraySample> stream(*b, {topic}, &parse_pose_array, bag.string());
-  return stream.until(std::numeric_limits<double>::infinity());
+  typed_topic(bag, *b, topic, {kPoseArray});
+  return read_all(bag, *b, topic, &parse_pose_array);
+}
+
+std::vector<ImuSample> read_imu_topic(const std::filesystem::path& bag, const std::string& topic) {
+  auto b = open_bag(bag);
+  typed_topic(bag, *b, topic, {kImu});
+  return read_all(bag, *b, topic, &parse_imu);
+}
+
+std::vector<OdometrySample> read_odometry_topic(const std::filesystem::path& bag,
+                                                const std::string& topic) {
+  auto b = open_bag(bag);
+  const bool twist = typed_topic(bag, *b, topic, {kOdometry, kTwistStamped}) == 1;
+  return read_all(bag, *b, topic, twist ? &parse_twist_stamped : &parse_odometry);
 }
 
 std::vector<ScanAnnotations> read_person_annotations(const std::filesystem::path& bag,

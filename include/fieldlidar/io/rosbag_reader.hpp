@@ -1,7 +1,7 @@
 #pragma once
 /// \file ROS1 bags: sensor_msgs/PointCloud2, LaserScan, Imu, nav_msgs/Odometry,
-/// geometry_msgs/PoseArray and leg_tracker/Person, decoded from their serialized bytes (ROS1 wire
-/// format).
+/// geometry_msgs/TwistStamped, geometry_msgs/PoseArray and leg_tracker/Person, decoded from their
+/// serialized bytes (ROS1 wire format).
 
 #include <cstddef>
 #include <cstdint>
@@ -32,6 +32,16 @@ std::map<std::string, std::size_t> bag_topic_counts(const std::filesystem::path&
 /// fieldlidar::Error listing the bag's topics when `topic` is absent or of another type.
 std::vector<PoseArraySample> read_pose_arrays(const std::filesystem::path& bag,
                                               const std::string& topic);
+
+/// All sensor_msgs/Imu messages of `topic`, in bag order sorted by header stamp (the IMU's own
+/// frame; orientation and covariances are not read). Throws fieldlidar::Error listing the bag's
+/// topics when `topic` is absent or of another type.
+std::vector<ImuSample> read_imu_topic(const std::filesystem::path& bag, const std::string& topic);
+/// All nav_msgs/Odometry or geometry_msgs/TwistStamped messages of `topic`, sorted by header
+/// stamp (TwistStamped: twist only, pose identity). Throws fieldlidar::Error listing the bag's
+/// topics when `topic` is absent or of another type.
+std::vector<OdometrySample> read_odometry_topic(const std::filesystem::path& bag,
+                                                const std::string& topic);
 
 /// leg_tracker/Person, the person annotation of the leg_tracker benchmarks: a pose and an id, no
 /// header (no stamp, no frame).
@@ -72,6 +82,8 @@ PointCloud parse_laser_scan(std::span<const std::uint8_t> bytes);
 PointCloud parse_point_cloud2(std::span<const std::uint8_t> bytes);
 ImuSample parse_imu(std::span<const std::uint8_t> bytes);
 OdometrySample parse_odometry(std::span<const std::uint8_t> bytes);
+/// geometry_msgs/TwistStamped -> an odometry sample with the twist only (pose identity).
+OdometrySample parse_twist_stamped(std::span<const std::uint8_t> bytes);
 PoseArraySample parse_pose_array(std::span<const std::uint8_t> bytes);
 PersonAnnotation parse_leg_tracker_person(std::span<const std::uint8_t> bytes);
 
