@@ -103,6 +103,11 @@ FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSourc
   return out;
 }
 
+const people::LegPipeline2DConfig& LegsRunner::config_2d() const {
+  if (!missing_config_.empty()) throw Error(missing_config_);
+  return pipeline_->config();
+}
+
 std::string LegsRunner::detector_summary() const {
   return "2D detector " + (config_path_.empty() ? std::string("defaults") : config_path_) +
          ", classifier " +
