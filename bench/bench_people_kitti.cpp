@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "fieldlidar/follow/pipeline.hpp"
+#include "fieldlidar/follow/replay.hpp"
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/people/leg_detector.hpp"
-#include "fieldlidar/segmentation/range_image.hpp"
 
 namespace {
 
@@ -25,9 +25,7 @@ const std::vector<PointCloud>& kitti_frames(const SensorModel& sensor) {
     auto src = io::FrameSource::open(dir);
     while (auto f = src->next()) {
       if (out.size() == 10) break;
-      const auto rings = segmentation::estimate_rings(f->cloud, sensor);
-      for (std::size_t i = 0; i < f->cloud.size(); ++i) f->cloud.points[i].ring = rings.rings[i];
-      f->cloud.fields.ring = true;
+      follow::ensure_rings(f->cloud, sensor);
       out.push_back(std::move(f->cloud));
     }
     return out;

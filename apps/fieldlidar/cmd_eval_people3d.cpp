@@ -18,12 +18,12 @@
 #include "commands.hpp"
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/follow/pipeline.hpp"
+#include "fieldlidar/follow/replay.hpp"
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/io/kitti_calib.hpp"
 #include "fieldlidar/io/kitti_tracking_labels.hpp"
 #include "fieldlidar/io/label_file.hpp"
 #include "fieldlidar/people/leg_detector.hpp"
-#include "fieldlidar/segmentation/range_image.hpp"
 #include "support/sensor_choice.hpp"
 
 namespace fieldlidar::app {
@@ -34,11 +34,11 @@ namespace fs = std::filesystem;
 
 struct People3dOptions {
   std::string input, kitti_labels, calib, point_labels, sensor, out;
-  int person_class = 17;          ///< SemanticKITTI-format class of persons (RELLIS-3D: 17)
-  std::size_t min_points = 50;    ///< persons with fewer points are reported, not scored
-  double gate_m = 0.75;           ///< a person detection this near (x-y) finds the person
-  double leg_radius_m = 0.6;      ///< legs this near the person's centre are "its" legs
-  std::size_t max_frames = 0;     ///< 0 = all
+  int person_class = 17;        ///< SemanticKITTI-format class of persons (RELLIS-3D: 17)
+  std::size_t min_points = 50;  ///< persons with fewer points are reported, not scored
+  double gate_m = 0.75;         ///< a person detection this near (x-y) finds the person
+  double leg_radius_m = 0.6;    ///< legs this near the person's centre are "its" legs
+  std::size_t max_frames = 0;   ///< 0 = all
   /// KITTI labels cover the left colour camera's view: |x| <= this * z in the rectified frame
   /// (image 1242 px wide, f = 721.5 px: +-40.7 deg).
   double camera_half_width = 621.0 / 721.5;
@@ -90,13 +90,10 @@ void run(const People3dOptions& o) {
   while (auto frame = source->next()) {
     if (o.max_frames && frames >= o.max_frames) break;
     PointCloud& cloud = frame->cloud;
-    if (!sensor) sensor = source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
+    if (!sensor)
+      sensor = source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
     // Leg arcs are found ring by ring: a cloud without a ring field (KITTI) gets estimated ones.
-    if (!cloud.fields.ring) {
-      const auto rings = segmentation::estimate_rings(cloud, *sensor);
-      for (std::size_t i = 0; i < cloud.size(); ++i) cloud.points[i].ring = rings.rings[i];
-      cloud.fields.ring = true;
-    }
+    follow::ensure_rings(cloud, *sensor);
     // The detector, as the follow pipeline runs it (perceive() without the world transform).
     const auto t0 = std::chrono::steady_clock::now();
     double h = 0;
@@ -159,7 +156,8 @@ void run(const People3dOptions& o) {
     // annotates only what its camera sees, so there only detections in the camera's view count.
     for (const auto& p : det.people) {
       if (kitti) {
-        const Eigen::Vector3d q = calib.T_rect_velo * Eigen::Vector3d(p.position_m.x(), p.position_m.y(), 0);
+        const Eigen::Vector3d q =
+            calib.T_rect_velo * Eigen::Vector3d(p.position_m.x(), p.position_m.y(), 0);
         if (!(q.z() > 0 && std::abs(q.x()) <= o.camera_half_width * q.z())) continue;
       }
       ++scored_detections;
@@ -216,18 +214,19 @@ void run(const People3dOptions& o) {
     std::fputs(text.c_str(), f);
     std::fclose(f);
   }
-  fmt::print("eval-people3d: {} frames ({}), {:.1f} legs and {:.2f} persons per frame, {:.2f} false "
-             "persons per frame in the annotated view ({}), {:.0f} ms per frame (max {:.0f})\n",
-             frames, sensor->name, double(legs_total) / double(frames),
-             double(detections) / double(frames), double(false_persons) / double(frames),
-             kitti ? "camera, +-40.7 deg" : "whole sweep",
-             ms_total / double(frames), ms_max);
+  fmt::print(
+      "eval-people3d: {} frames ({}), {:.1f} legs and {:.2f} persons per frame, {:.2f} false "
+      "persons per frame in the annotated view ({}), {:.0f} ms per frame (max {:.0f})\n",
+      frames, sensor->name, double(legs_total) / double(frames),
+      double(detections) / double(frames), double(false_persons) / double(frames),
+      kitti ? "camera, +-40.7 deg" : "whole sweep", ms_total / double(frames), ms_max);
   for (const auto& [type, v] : by_type.items())
-    fmt::print("  {}: {} annotated, {} with >= {} points, {} found (recall {:.2f}), {} with a leg "
-               "detected within {} m\n",
-               type, v["annotated"].get<std::size_t>(), v["with_min_points"].get<std::size_t>(),
-               o.min_points, v["found"].get<std::size_t>(), v["recall"].get<double>(),
-               v["with_a_leg_near"].get<std::size_t>(), o.leg_radius_m);
+    fmt::print(
+        "  {}: {} annotated, {} with >= {} points, {} found (recall {:.2f}), {} with a leg "
+        "detected within {} m\n",
+        type, v["annotated"].get<std::size_t>(), v["with_min_points"].get<std::size_t>(),
+        o.min_points, v["found"].get<std::size_t>(), v["recall"].get<double>(),
+        v["with_a_leg_near"].get<std::size_t>(), o.leg_radius_m);
   if (!o.out.empty()) fmt::print("wrote {}\n", o.out);
 }
 

@@ -96,7 +96,7 @@ void run_follow_replay(const FollowOptions& o) {
   std::optional<double> max_time_end;
   while (auto frame = source->next()) {
     if (!replay) {
-      if (frame->cloud.ring_count() <= 1) cfg.legs_2d = legs.config_2d();
+      if (follow::is_planar_scan(frame->cloud)) cfg.legs_2d = legs.config_2d();
       auto sensor = source->sensor();
       if (!sensor) sensor = SensorModel::preset(o.sensor);
       if (!sensor) throw Error("--sensor '" + o.sensor + "': unknown sensor preset");

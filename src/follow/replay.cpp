@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "fieldlidar/people/leg_detector.hpp"
+#include "fieldlidar/segmentation/range_image.hpp"
 
 namespace fieldlidar::follow {
 
@@ -23,6 +24,19 @@ Eigen::Isometry2d isometry_2d(const Pose2& p) {
 
 }  // namespace
 
+bool is_planar_scan(const PointCloud& cloud) {
+  if (cloud.fields.ring) return cloud.ring_count() <= 1;
+  return std::all_of(cloud.points.begin(), cloud.points.end(),
+                     [](const Point& p) { return p.z == 0.f; });
+}
+
+void ensure_rings(PointCloud& cloud, const SensorModel& sensor) {
+  if (cloud.fields.ring) return;
+  const auto rings = segmentation::estimate_rings(cloud, sensor);
+  for (std::size_t i = 0; i < cloud.size(); ++i) cloud.points[i].ring = rings.rings[i];
+  cloud.fields.ring = true;
+}
+
 double ReplaySummary::target_held_fraction() const {
   return frames_with_target_chosen ? double(frames_target_held) / double(frames_with_target_chosen)
                                    : 0.0;
@@ -34,7 +48,7 @@ FollowReplay::FollowReplay(const SensorModel& sensor, const ReplayConfig& config
       pipeline_(sensor, config.follow),
       legs_2d_(config.legs_2d) {}
 
-ReplayFrame FollowReplay::step(const PointCloud& cloud, double stamp_s,
+ReplayFrame FollowReplay::step(PointCloud cloud, double stamp_s,
                                const std::optional<Pose>& T_odom_sensor) {
   ReplayFrame f;
   f.stamp_s = stamp_s;
@@ -44,12 +58,13 @@ ReplayFrame FollowReplay::step(const PointCloud& cloud, double stamp_s,
                                                                 : config_.nominal_period_s;
   const auto t0 = std::chrono::steady_clock::now();
   Perception perception;
-  if (cloud.ring_count() <= 1) {
+  if (is_planar_scan(cloud)) {
     // A 2D scan: the leg pipeline tracks legs and persons in the odometry frame.
     const auto det = legs_2d_.process(stamp_s, people::scan_points_2d(cloud), isometry_2d(f.mower));
     for (const auto& l : det.legs) perception.legs_m.push_back(isometry_2d(f.mower) * l.position_m);
     for (const auto& p : det.people) perception.people_m.push_back(p.position_world_m);
   } else {
+    ensure_rings(cloud, sensor_);
     perception = perceive(cloud, sensor_, T, config_.follow);
   }
   f.perception_ms =

@@ -52,10 +52,10 @@ TEST(CliEvalPeople3d, RellisPersonFound) {
   const char* scan = "rellis3d/000001.bin";
   FIELDLIDAR_REQUIRE_DATA(scan);
   const auto dir = test::temp_dir("cli_eval_people3d_rellis");
-  const auto r = test::run_cli("eval-people3d " + test::data_file(scan).string() +
-                               " --point-labels " +
-                               test::data_file("rellis3d/000001.label").string() +
-                               " --sensor os1-64 --out " + (dir / "rellis.json").string());
+  const auto r =
+      test::run_cli("eval-people3d " + test::data_file(scan).string() + " --point-labels " +
+                    test::data_file("rellis3d/000001.label").string() + " --sensor os1-64 --out " +
+                    (dir / "rellis.json").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = read_json(dir / "rellis.json");
   // Measured: the person (520 points, 6.5 m away, 152 in the leg band) is found 0.13 m from its

@@ -22,6 +22,12 @@
 
 namespace fieldlidar::follow {
 
+/// A 2D laser scan: a ring field with one ring, or no ring field and every point at z = 0.
+bool is_planar_scan(const PointCloud& cloud);
+/// Gives a cloud without a ring field (KITTI, unorganised PCD) rings estimated from the sensor's
+/// beam geometry (segmentation::estimate_rings); leaves a cloud with rings as it is.
+void ensure_rings(PointCloud& cloud, const SensorModel& sensor);
+
 struct ReplayConfig {
   FollowConfig follow;
   /// Persons in 2D scans (the caller sets the detector and its classifier).
@@ -65,10 +71,10 @@ class FollowReplay {
   /// `sensor` serves 3D sweeps (ground segmentation, leg arcs); unused for 2D scans.
   FollowReplay(const SensorModel& sensor, const ReplayConfig& config);
 
-  /// One recorded frame in the sensor frame at `stamp_s`; `T_odom_sensor` the recorded sensor
+  /// One recorded frame in the sensor frame at `stamp_s` (3D sweeps without rings get estimated
+  /// ones); `T_odom_sensor` the recorded sensor
   /// pose (nullopt: the robot stands at the origin). Stamps must not decrease.
-  ReplayFrame step(const PointCloud& cloud, double stamp_s,
-                   const std::optional<Pose>& T_odom_sensor);
+  ReplayFrame step(PointCloud cloud, double stamp_s, const std::optional<Pose>& T_odom_sensor);
 
   const ReplaySummary& summary() const { return summary_; }
   const FollowPipeline& pipeline() const { return pipeline_; }

@@ -19,7 +19,7 @@ struct KittiObject {
   std::string type;  ///< Car, Van, Pedestrian, Cyclist, DontCare, ...
   double truncated = 0;
   int occluded = 0;
-  double h_m = 0, w_m = 0, l_m = 0;  ///< box height, width, length
+  double h_m = 0, w_m = 0, l_m = 0;                         ///< box height, width, length
   Eigen::Vector3d bottom_rect_m = Eigen::Vector3d::Zero();  ///< bottom-face centre (rect. camera)
   double ry_rad = 0;
 
