@@ -28,11 +28,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// The recorded odometry as a trajectory (samples with a repeated stamp dropped).
-Trajectory odometry_trajectory(const fs::path& bag, const std::string& topic) {
+/// The recorded odometry as a trajectory (samples with a repeated stamp dropped); `child_frame`
+/// is set to the frame it tracks (the base).
+Trajectory odometry_trajectory(const fs::path& bag, const std::string& topic,
+                               std::string& child_frame) {
   Trajectory t;
-  for (const auto& s : io::read_odometry_topic(bag, topic))
+  for (const auto& s : io::read_odometry_topic(bag, topic)) {
+    if (child_frame.empty()) child_frame = s.child_frame_id;
     if (t.empty() || s.stamp_s > t.poses().back().stamp_s) t.push_back(s.stamp_s, s.pose);
+  }
   if (t.size() < 2)
     throw Error(bag.string() + ": topic '" + topic + "' holds fewer than 2 odometry poses");
   return t;
@@ -42,6 +46,15 @@ Trajectory odometry_trajectory(const fs::path& bag, const std::string& topic) {
 Pose pose_at(const Trajectory& t, double stamp_s) {
   if (auto p = t.at(stamp_s)) return *p;
   return stamp_s < t.poses().front().stamp_s ? t.poses().front().pose : t.poses().back().pose;
+}
+
+/// The scan topic: --topic, else the bag's only scan topic (as the frame source chooses it).
+std::string source_topic(const FollowOptions& o) {
+  if (!o.topic.empty()) return o.topic;
+  for (const auto& t : io::bag_topics(o.replay))
+    if (t.datatype == "sensor_msgs/LaserScan" || t.datatype == "sensor_msgs/PointCloud2")
+      return t.name;
+  return {};
 }
 
 loops::LogRow log_row(const follow::ReplayFrame& f) {
@@ -85,7 +98,21 @@ void run_follow_replay(const FollowOptions& o) {
   so.topic = o.topic;
   auto source = io::FrameSource::open(o.replay, so);
   std::optional<Trajectory> motion;
-  if (!o.odom_topic.empty()) motion = odometry_trajectory(o.replay, o.odom_topic);
+  std::string base_frame, sensor_frame, mount_from = "none (the sensor is the base)";
+  if (!o.odom_topic.empty()) {
+    motion = odometry_trajectory(o.replay, o.odom_topic, base_frame);
+    // The scan's mount on the base from the recorded transforms.
+    sensor_frame = io::first_frame_id(o.replay, source_topic(o));
+    if (const auto T = io::read_mount_transform(o.replay, base_frame, sensor_frame)) {
+      cfg.T_base_sensor = *T;
+      mount_from = "/tf: " + base_frame + " -> " + sensor_frame;
+    } else {
+      warn(
+          fmt::format("no transform {} -> {} in the bag: the scans are taken as seen from the "
+                      "base's origin and heading",
+                      base_frame, sensor_frame));
+    }
+  }
   LegsRunOptions lo;
   lo.input = o.replay;
   lo.config = o.legs_config;
@@ -122,6 +149,10 @@ void run_follow_replay(const FollowOptions& o) {
   j["odom_topic"] = o.odom_topic;
   j["motion"] = motion ? "the recording's odometry (" + o.odom_topic + ")" : "standing still";
   j["detector"] = legs.detector_summary();
+  j["sensor_mount"] = {{"from", mount_from},
+                       {"x_m", cfg.T_base_sensor.translation().x()},
+                       {"y_m", cfg.T_base_sensor.translation().y()},
+                       {"yaw_deg", yaw_of(cfg.T_base_sensor) * 180 / M_PI}};
   j["frames"] = s.frames;
   j["duration_s"] = s.duration_s;
   j["frame"] = motion ? "odometry frame of the recording, x-y in metres"

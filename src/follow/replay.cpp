@@ -49,19 +49,21 @@ FollowReplay::FollowReplay(const SensorModel& sensor, const ReplayConfig& config
       legs_2d_(config.legs_2d) {}
 
 ReplayFrame FollowReplay::step(PointCloud cloud, double stamp_s,
-                               const std::optional<Pose>& T_odom_sensor) {
+                               const std::optional<Pose>& T_odom_base) {
   ReplayFrame f;
   f.stamp_s = stamp_s;
-  const Pose T = T_odom_sensor ? *T_odom_sensor : Pose::Identity();
-  f.mower = planar(T);
+  const Pose T_base = T_odom_base ? *T_odom_base : Pose::Identity();
+  const Pose T = T_base * config_.T_base_sensor;  // the sensor in the odometry frame
+  f.mower = planar(T_base);
   const double dt_s = last_stamp_s_ && stamp_s > *last_stamp_s_ ? stamp_s - *last_stamp_s_
                                                                 : config_.nominal_period_s;
   const auto t0 = std::chrono::steady_clock::now();
   Perception perception;
   if (is_planar_scan(cloud)) {
     // A 2D scan: the leg pipeline tracks legs and persons in the odometry frame.
-    const auto det = legs_2d_.process(stamp_s, people::scan_points_2d(cloud), isometry_2d(f.mower));
-    for (const auto& l : det.legs) perception.legs_m.push_back(isometry_2d(f.mower) * l.position_m);
+    const Eigen::Isometry2d T_2d = isometry_2d(planar(T));
+    const auto det = legs_2d_.process(stamp_s, people::scan_points_2d(cloud), T_2d);
+    for (const auto& l : det.legs) perception.legs_m.push_back(T_2d * l.position_m);
     for (const auto& p : det.people) perception.people_m.push_back(p.position_world_m);
   } else {
     ensure_rings(cloud, sensor_);

@@ -27,6 +27,7 @@ constexpr KnownType kPointCloud2{"sensor_msgs/PointCloud2", "1158d486dd51d683ce2
 constexpr KnownType kImu{"sensor_msgs/Imu", "6a62c6daae103f4ff57a132d6f95cec2"};
 constexpr KnownType kOdometry{"nav_msgs/Odometry", "cd5e73d190d741a2f92e81eda573aca7"};
 constexpr KnownType kTwistStamped{"geometry_msgs/TwistStamped", "98d34b0043a2093cf9d9345ab6eef12e"};
+constexpr KnownType kTfMessage{"tf2_msgs/TFMessage", "94810edda583a504dfda3829e70d7eec"};
 constexpr KnownType kPoseArray{"geometry_msgs/PoseArray", "916c28c5764443f268b296bb671b9d97"};
 constexpr KnownType kPerson{"leg_tracker/Person", "4f334171b5664340c323a1982b554a22"};
 
@@ -341,6 +342,51 @@ std::vector<ScanAnnotations> read_person_annotations(const std::filesystem::path
     throw Error(bag.string() + ": a message cannot be read: " + e.what());
   }
   return out;
+}
+
+std::optional<Pose> read_mount_transform(const std::filesystem::path& path,
+                                         const std::string& parent, const std::string& child) {
+  auto bag = open_bag(path);
+  auto bare = [](const std::string& f) { return f.rfind('/', 0) == 0 ? f.substr(1) : f; };
+  const std::string p = bare(parent), c = bare(child);
+  std::vector<std::uint8_t> buf;
+  try {
+    for (const auto& t : topics_of(*bag)) {
+      if (!is_type(t, kTfMessage) || (t.name != "/tf_static" && t.name != "/tf")) continue;
+      check_md5(path, t, kTfMessage);
+      for (const auto& m : rosbag::View(*bag, rosbag::TopicQuery(t.name))) {
+        message_bytes(m, buf);
+        for (const auto& tf : parse_tf_message(buf))
+          if (bare(tf.parent) == p && bare(tf.child) == c) return tf.T_parent_child;
+      }
+    }
+  } catch (const rosbag::BagException& e) {
+    throw Error(path.string() + ": a message cannot be read: " + e.what());
+  } catch (const Error& e) {
+    throw Error(path.string() + ": " + e.what());
+  }
+  return std::nullopt;
+}
+
+std::string first_frame_id(const std::filesystem::path& path, const std::string& topic) {
+  auto bag = open_bag(path);
+  const auto topics = topics_of(*bag);
+  try {
+    rosbag::View view(*bag, rosbag::TopicQuery(topic));
+    if (view.size() == 0)
+      throw Error(path.string() + ": no message on topic '" + topic +
+                  "'; topics: " + list_topics(topics));
+    std::vector<std::uint8_t> buf;
+    message_bytes(*view.begin(), buf);
+    // std_msgs/Header: seq, stamp sec, stamp nsec, frame_id (uint32 length + chars).
+    std::uint32_t n = 0;
+    if (buf.size() >= 16) std::memcpy(&n, buf.data() + 12, 4);
+    if (buf.size() < 16 || n > buf.size() - 16)
+      throw Error(path.string() + ": topic '" + topic + "': the first message has no header");
+    return std::string(reinterpret_cast<const char*>(buf.data() + 16), n);
+  } catch (const rosbag::BagException& e) {
+    throw Error(path.string() + ": " + e.what());
+  }
 }
 
 std::unique_ptr<FrameSource> open_rosbag(const std::filesystem::path& bag,

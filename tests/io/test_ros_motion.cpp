@@ -140,5 +140,38 @@ TEST(RosMotion, OdometryTopicOfARealBag) {
   EXPECT_THROW(io::read_odometry_topic(path, "/no_such_topic"), Error);
 }
 
+TEST(RosMotion, TfMessageWireFormat) {
+  Wire w;
+  w.u32(2);
+  for (int k = 0; k < 2; ++k) {
+    w.header(10, 0, "base_link");
+    w.str(k ? "left_laser" : "rear_laser");
+    w.doubles({0.85, 0.235 * k, 0.0, 0, 0, 0, 1});
+  }
+  const auto tfs = io::parse_tf_message(w.b);
+  ASSERT_EQ(tfs.size(), 2u);
+  EXPECT_EQ(tfs[1].parent, "base_link");
+  EXPECT_EQ(tfs[1].child, "left_laser");
+  EXPECT_DOUBLE_EQ(tfs[1].T_parent_child.translation().y(), 0.235);
+  auto cut = w.b;
+  cut.resize(cut.size() - 8);
+  EXPECT_THROW(io::parse_tf_message(cut), Error);
+}
+
+TEST(RosMotion, LaserMountFromTheBagsTf) {
+  FIELDLIDAR_REQUIRE_DATA(kTracking);
+  const auto path = test::data_file(kTracking);
+  EXPECT_EQ(io::first_frame_id(path, "/scan"), "left_laser");
+  const auto odom = io::read_odometry_topic(path, "/odom");
+  EXPECT_EQ(odom.front().child_frame_id, "/base_link");
+  // The odometry names "/base_link", /tf "base_link": compared without the leading '/'.
+  const auto T = io::read_mount_transform(path, "/base_link", "left_laser");
+  ASSERT_TRUE(T);
+  EXPECT_NEAR(T->translation().x(), 0.850, 0.001);
+  EXPECT_NEAR(T->translation().y(), 0.235, 0.001);
+  EXPECT_NEAR(yaw_of(*T) * 180 / M_PI, 42.1, 0.1);
+  EXPECT_FALSE(io::read_mount_transform(path, "base_link", "no_such_frame"));
+}
+
 }  // namespace
 }  // namespace fieldlidar

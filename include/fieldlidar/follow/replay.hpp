@@ -33,12 +33,15 @@ struct ReplayConfig {
   /// Persons in 2D scans (the caller sets the detector and its classifier).
   people::LegPipeline2DConfig legs_2d;
   double nominal_period_s = 0.1;  ///< control period of the first frame (s)
+  /// The sensor's mount on the robot's base (the frame of the recorded odometry): scans are
+  /// placed in the odometry frame by T_odom_base * T_base_sensor; the mower pose is the base's.
+  Pose T_base_sensor = Pose::Identity();
 };
 
 /// One frame of the replay.
 struct ReplayFrame {
   double stamp_s = 0;
-  Pose2 mower;  ///< the recorded pose of the sensor (odometry frame), or the origin
+  Pose2 mower;  ///< the recorded pose of the base (odometry frame), or the origin
   FrameOutput output;
   /// Persons reported by the perception this frame (2D: the leg pipeline's tracked persons).
   std::size_t people_detected = 0;
@@ -72,9 +75,9 @@ class FollowReplay {
   FollowReplay(const SensorModel& sensor, const ReplayConfig& config);
 
   /// One recorded frame in the sensor frame at `stamp_s` (3D sweeps without rings get estimated
-  /// ones); `T_odom_sensor` the recorded sensor
-  /// pose (nullopt: the robot stands at the origin). Stamps must not decrease.
-  ReplayFrame step(PointCloud cloud, double stamp_s, const std::optional<Pose>& T_odom_sensor);
+  /// ones); `T_odom_base` the recorded base pose (nullopt: the robot stands at the origin).
+  /// Stamps must not decrease.
+  ReplayFrame step(PointCloud cloud, double stamp_s, const std::optional<Pose>& T_odom_base);
 
   const ReplaySummary& summary() const { return summary_; }
   const FollowPipeline& pipeline() const { return pipeline_; }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -42,6 +43,23 @@ std::vector<ImuSample> read_imu_topic(const std::filesystem::path& bag, const st
 /// topics when `topic` is absent or of another type.
 std::vector<OdometrySample> read_odometry_topic(const std::filesystem::path& bag,
                                                 const std::string& topic);
+
+/// One transform of tf2_msgs/TFMessage (geometry_msgs/TransformStamped).
+struct TransformSample {
+  double stamp_s = 0;
+  std::string parent, child;  ///< header frame_id and child_frame_id, as recorded
+  Pose T_parent_child = Pose::Identity();
+};
+
+/// The transform `parent` -> `child` (frame names compared without a leading '/') from the first
+/// tf2_msgs/TFMessage of the bag's /tf_static or /tf topics that holds that edge (a fixed mount,
+/// e.g. base_link -> laser); nullopt when none does. Only direct edges are looked up.
+std::optional<Pose> read_mount_transform(const std::filesystem::path& bag,
+                                         const std::string& parent, const std::string& child);
+/// The header frame_id of the first message of `topic` (a message that starts with a
+/// std_msgs/Header: scans, clouds, odometry, IMU). Throws fieldlidar::Error listing the bag's
+/// topics when `topic` is absent or has no message.
+std::string first_frame_id(const std::filesystem::path& bag, const std::string& topic);
 
 /// leg_tracker/Person, the person annotation of the leg_tracker benchmarks: a pose and an id, no
 /// header (no stamp, no frame).
@@ -85,6 +103,7 @@ OdometrySample parse_odometry(std::span<const std::uint8_t> bytes);
 /// geometry_msgs/TwistStamped -> an odometry sample with the twist only (pose identity).
 OdometrySample parse_twist_stamped(std::span<const std::uint8_t> bytes);
 PoseArraySample parse_pose_array(std::span<const std::uint8_t> bytes);
+std::vector<TransformSample> parse_tf_message(std::span<const std::uint8_t> bytes);
 PersonAnnotation parse_leg_tracker_person(std::span<const std::uint8_t> bytes);
 
 }  // namespace fieldlidar::io
