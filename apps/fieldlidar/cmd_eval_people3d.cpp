@@ -84,7 +84,9 @@ void run(const People3dOptions& o) {
   follow::FollowConfig cfg;
   std::vector<Annotated> people;
   std::size_t frames = 0, detections = 0, false_persons = 0, legs_total = 0;
-  std::size_t scored_detections = 0;  ///< person detections where annotations exist
+  std::size_t scored_detections = 0;
+  std::size_t false_anywhere = 0;  ///< also where nothing is annotated (KITTI: outside the view)
+                                   ///< ///< person detections where annotations exist
   double ms_total = 0, ms_max = 0;
   std::optional<SensorModel> sensor;
   while (auto frame = source->next()) {
@@ -155,6 +157,10 @@ void run(const People3dOptions& o) {
     // Person detections near no annotated person (a pedestrian or the cyclist) are false; KITTI
     // annotates only what its camera sees, so there only detections in the camera's view count.
     for (const auto& p : det.people) {
+      bool near_any = false;
+      for (const auto& a : here)
+        near_any |= (p.position_m - a.center_m.head<2>()).norm() <= o.gate_m;
+      false_anywhere += !near_any;
       if (kitti) {
         const Eigen::Vector3d q =
             calib.T_rect_velo * Eigen::Vector3d(p.position_m.x(), p.position_m.y(), 0);
@@ -201,6 +207,7 @@ void run(const People3dOptions& o) {
   j["person_detections_in_annotated_view"] = scored_detections;
   j["false_persons"] = false_persons;
   j["false_persons_per_frame"] = double(false_persons) / double(frames);
+  j["unmatched_persons_whole_sweep_per_frame"] = double(false_anywhere) / double(frames);
   j["annotated_view"] = kitti ? "KITTI camera view (+-40.7 deg)" : "whole sweep";
   j["by_type"] = by_type;
   j["mean_ms_per_frame"] = ms_total / double(frames);
