@@ -16,6 +16,7 @@
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/io/rosbag_reader.hpp"
+#include "fieldlidar/io/trajectory_io.hpp"
 #include "fieldlidar/loops/closed_loop.hpp"
 #include "follow_job.hpp"
 #include "support/legs_runner.hpp"
@@ -94,12 +95,23 @@ void run_follow_replay(const FollowOptions& o) {
   if (fs::is_directory(dir))
     for (const auto& p : {log, summary}) io::check_writable(p, o.force);
 
+  // A simulator folder: its PCD sweeps, stamped by its times.txt.
+  fs::path input(o.replay);
+  std::vector<double> times;
+  if (fs::is_directory(input) && fs::exists(input / "times.txt") &&
+      fs::is_directory(input / "pcd")) {
+    times = io::read_kitti_times(input / "times.txt");
+    input = input / "pcd";
+  }
   io::SourceOptions so;
   so.topic = o.topic;
-  auto source = io::FrameSource::open(o.replay, so);
+  auto source = io::FrameSource::open(input, so);
   std::optional<Trajectory> motion;
   std::string base_frame, sensor_frame, mount_from = "none (the sensor is the base)";
-  if (!o.odom_topic.empty()) {
+  if (!o.odom_topic.empty() && fs::is_regular_file(o.odom_topic) && input.extension() != ".bag") {
+    // A TUM pose file (e.g. a simulator folder's poses_tum.txt): the sensor's poses.
+    motion = io::read_tum(o.odom_topic);
+  } else if (!o.odom_topic.empty()) {
     motion = odometry_trajectory(o.replay, o.odom_topic, base_frame);
     // The scan's mount on the base from the recorded transforms.
     sensor_frame = io::first_frame_id(o.replay, source_topic(o));
@@ -131,6 +143,7 @@ void run_follow_replay(const FollowOptions& o) {
       topic = frame->topic;
       if (o.max_time_s > 0) max_time_end = frame->stamp_s + o.max_time_s;
     }
+    if (frame->index < times.size()) frame->stamp_s = frame->cloud.stamp_s = times[frame->index];
     if (max_time_end && frame->stamp_s > *max_time_end) break;
     std::optional<Pose> pose;
     if (motion) pose = pose_at(*motion, frame->stamp_s);

@@ -97,5 +97,26 @@ TEST(CliFollowReplay, StandingRobotWithPeopleAndWithNone) {
   EXPECT_LE(s["metrics"]["frames_following"].get<int>(), 38);
 }
 
+TEST(CliFollowReplay, SimulatedLawnSweepsWithTheirPoses) {
+  // The 3D path: simulated VLP-16 sweeps of the lawn (the operator walks ahead of the moving
+  // sensor), the sensor's poses from the folder's poses_tum.txt.
+  const auto dir = test::temp_dir("cli_follow_replay_sim");
+  const auto sim = dir / "sim", out = dir / "out";
+  auto r = test::run_cli("simulate --scene lawn --frames 60 --out " + sim.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = test::run_cli("follow --replay " + sim.string() + " --odom " +
+                    (sim / "poses_tum.txt").string() + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto s = summary_of(out);
+  EXPECT_EQ(s["frames"].get<int>(), 60);
+  const auto& m = s["metrics"];
+  // Measured (150 frames): target chosen after 2 sweeps, held in all since, 148 following.
+  EXPECT_LE(m["frames_before_target_chosen"].get<int>(), 3);
+  EXPECT_GE(m["target_held_fraction"].get<double>(), 0.98);
+  EXPECT_GE(m["frames_following"].get<int>(), 55);
+  EXPECT_EQ(m["target_switches"].get<int>(), 0);
+  EXPECT_GT(m["path_length_m"].get<double>(), 3.0);
+}
+
 }  // namespace
 }  // namespace fieldlidar
