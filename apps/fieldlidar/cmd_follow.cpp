@@ -108,6 +108,7 @@ void write_picture(const fs::path& path, const sim::Scene& scene, const loops::C
 }  // namespace
 
 void run_follow(const FollowOptions& o) {
+  if (!o.replay.empty()) return run_follow_replay(o);
   if (o.scene != "lawn") throw Error("--scene '" + o.scene + "': only 'lawn' is supported");
   const auto scenario = loops::scenario_from_string(o.scenario);
   if (!scenario)
@@ -254,6 +255,19 @@ void add_follow_command(CLI::App& app) {
   cmd->add_option("--pose-source", o->pose_source,
                   "The mower's pose: odometry (LiDAR + IMU + wheels) or truth (the simulator's)")
       ->capture_default_str();
+  cmd->add_option("--replay", o->replay,
+                  "A ROS1 bag (or a simulate folder) to replay instead of simulating: perception, "
+                  "tracking, target choice "
+                  "and controller on the recorded scans, the robot's motion from the recording "
+                  "(commands logged, not applied); writes follow_log.csv and summary.json");
+  cmd->add_option("--topic", o->topic, "With --replay: the scan topic (default: the only one)");
+  cmd->add_option("--odom", o->odom_topic,
+                  "With --replay: nav_msgs/Odometry topic of the bag giving the robot's motion, or "
+                  "a TUM pose file of the sensor (e.g. a simulate folder's poses_tum.txt) "
+                  "(default: the robot stands still)");
+  cmd->add_option(
+      "--legs-config", o->legs_config,
+      "With --replay of 2D scans: leg detector YAML (default: the shipped legs_2d.yaml)");
   cmd->add_option("--out", o->out, "Output folder")->required();
   cmd->add_flag("--force", o->force, "Overwrite existing output files");
   cmd->callback([o] { run_follow(*o); });

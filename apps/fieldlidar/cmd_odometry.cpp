@@ -20,6 +20,7 @@
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/io/rosbag_reader.hpp"
 #include "fieldlidar/io/trajectory_io.hpp"
 #include "fieldlidar/odometry/lidar_odometry.hpp"
 #include "support/canvas.hpp"
@@ -33,7 +34,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct OdometryOptions {
-  std::string input, imu, odom, map_in, out, sensor;
+  std::string input, imu, odom, map_in, out, sensor, topic;
   std::vector<double> initial_pose;  ///< x y z roll pitch yaw (m, deg) in the map
   bool frame_to_frame = false, lidar_only = false, force = false;
   double elevation_correction_deg = 0.0;
@@ -132,6 +133,30 @@ std::vector<odometry::WheelSample> read_wheels(const fs::path& path) {
   return out;
 }
 
+/// --imu / --odom: a file, or a topic of the bag INPUT when no such file exists.
+bool bag_topic(const std::string& value, const fs::path& input) {
+  if (value.empty() || fs::exists(value)) return false;
+  if (input.extension() == ".bag") return true;
+  throw Error(value + ": no such file (a topic name needs a .bag INPUT)");
+}
+
+/// sensor_msgs/Imu messages of a bag topic (taken as the base frame: no extrinsics are read).
+std::vector<odometry::ImuSample> read_imu_bag(const fs::path& bag, const std::string& topic) {
+  std::vector<odometry::ImuSample> out;
+  for (const auto& m : io::read_imu_topic(bag, topic))
+    out.push_back({m.stamp_s, m.gyro_rad_s, m.accel_m_s2});
+  return out;
+}
+
+/// Wheel speeds from nav_msgs/Odometry or geometry_msgs/TwistStamped of a bag topic: forward
+/// speed = twist linear x, yaw rate = twist angular z (the base frame's twist).
+std::vector<odometry::WheelSample> read_wheels_bag(const fs::path& bag, const std::string& topic) {
+  std::vector<odometry::WheelSample> out;
+  for (const auto& m : io::read_odometry_topic(bag, topic))
+    out.push_back({m.stamp_s, m.linear_m_s.x(), m.angular_rad_s.z()});
+  return out;
+}
+
 void draw_map(const fs::path& path, const PointCloud& map, const Trajectory& poses, bool force) {
   Bounds3 b = compute_bounds(map);
   for (const auto& p : poses) b.extend(p.pose.translation());
@@ -167,7 +192,16 @@ void run_odometry(const OdometryOptions& o) {
     if (fs::is_directory(input / "pcd")) input = input / "pcd";
   }
   if (o.lidar_only) imu_path.clear(), odom_path.clear();
-  auto source = io::FrameSource::open(input);
+  const bool imu_topic = bag_topic(imu_path.string(), input);
+  const bool odom_topic = bag_topic(odom_path.string(), input);
+  std::vector<odometry::ImuSample> imu;
+  std::vector<odometry::WheelSample> wheels;
+  if (!imu_path.empty()) imu = imu_topic ? read_imu_bag(input, o.imu) : read_imu(imu_path);
+  if (!odom_path.empty())
+    wheels = odom_topic ? read_wheels_bag(input, o.odom) : read_wheels(odom_path);
+  io::SourceOptions so;
+  so.topic = o.topic;
+  auto source = io::FrameSource::open(input, so);
   if (o.frame_to_frame) cfg.target = odometry::MatchTarget::kPreviousFrame;
   cfg.preprocess.elevation_correction_deg = o.elevation_correction_deg;
   nlohmann::json memory = nlohmann::json::array();
@@ -186,8 +220,8 @@ void run_odometry(const OdometryOptions& o) {
           source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
       cfg.expected_period_s = sensor.sweep_period_s();
       odo = std::make_unique<odometry::LidarOdometry>(sensor, cfg);
-      if (!imu_path.empty()) odo->add_imu(read_imu(imu_path));
-      if (!odom_path.empty()) odo->add_wheels(read_wheels(odom_path));
+      if (!imu.empty()) odo->add_imu(imu);
+      if (!wheels.empty()) odo->add_wheels(wheels);
       if (!o.map_in.empty()) {
         Pose start = Pose::Identity();
         if (o.initial_pose.size() == 6) {
@@ -248,7 +282,9 @@ void run_odometry(const OdometryOptions& o) {
                                   {"memory_per_1000_frames", memory},
                                   {"peak_rss_mb", proc_status_mb("VmHWM")},
                                   {"imu", imu_path.string()},
+                                  {"imu_samples", imu.size()},
                                   {"wheels", odom_path.string()},
+                                  {"wheel_samples", wheels.size()},
                                   {"map_in", o.map_in},
                                   {"seconds", seconds}};
   const std::string text = summary.dump(2) + "\n";
@@ -264,8 +300,14 @@ void add_odometry_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("odometry", "LiDAR odometry and mapping (seed 002)");
   cmd->add_option("input", o->input, "Frames: a file, folder, glob, pcap, bag or simulator folder")
       ->required();
-  cmd->add_option("--imu", o->imu, "IMU CSV (stamp_s, gyro xyz rad/s, accel xyz m/s^2)");
-  cmd->add_option("--odom", o->odom, "Wheel CSV (simulator odom.csv or stamp,linear,yaw_rate)");
+  cmd->add_option("--topic", o->topic, "Bag topic of the frames (default: the only scan topic)");
+  cmd->add_option("--imu", o->imu,
+                  "IMU CSV (stamp_s, gyro xyz rad/s, accel xyz m/s^2), or a sensor_msgs/Imu topic "
+                  "of the bag INPUT");
+  cmd->add_option(
+      "--odom", o->odom,
+      "Wheel CSV (simulator odom.csv or stamp,linear,yaw_rate), or a nav_msgs/Odometry "
+      "or geometry_msgs/TwistStamped topic of the bag INPUT (twist linear x, angular z)");
   cmd->add_option("--map-in", o->map_in, "Localise in this saved map (map.pcd of an earlier run)");
   cmd->add_option("--initial-pose", o->initial_pose, "x y z roll pitch yaw (m, deg) in --map-in")
       ->expected(6);

@@ -11,6 +11,7 @@ void add_segment_command(CLI::App& app);
 void add_eval_ground_command(CLI::App& app);
 void add_eval_odometry_command(CLI::App& app);
 void add_eval_tracking_command(CLI::App& app);
+void add_eval_people3d_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);

@@ -19,7 +19,16 @@ struct FollowOptions {
   double max_distance_m = -1;
   std::string origin;  ///< "LAT,LON[,HEADING_DEG]" for WGS84 GeoJSON; empty: local metres
   std::string pose_source = "odometry";  ///< odometry or truth
+  // Replay of a recording instead of the simulation:
+  std::string replay;       ///< ROS1 bag
+  std::string topic;        ///< its scan topic ("" = the only one)
+  std::string odom_topic;   ///< nav_msgs/Odometry topic: the robot's motion ("" = standing still)
+  std::string legs_config;  ///< 2D leg detector YAML ("" = the shipped legs_2d.yaml)
 };
+
+/// Runs the follow pipeline on the recording `o.replay` and writes follow_log.csv and
+/// summary.json into `o.out`; prints a short summary.
+void run_follow_replay(const FollowOptions& o);
 
 /// Runs the simulated closed loop and writes boundary.geojson, boundary.csv, follow_log.csv,
 /// summary.json and follow.png into `o.out`; prints a one-paragraph summary.

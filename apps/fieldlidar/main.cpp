@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   fieldlidar::app::add_eval_ground_command(app);
   fieldlidar::app::add_eval_odometry_command(app);
   fieldlidar::app::add_eval_tracking_command(app);
+  fieldlidar::app::add_eval_people3d_command(app);
   fieldlidar::app::add_convert_command(app);
   fieldlidar::app::add_demo_command(app);
   fieldlidar::app::add_simulate_command(app);

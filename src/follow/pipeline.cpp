@@ -1,6 +1,7 @@
 #include "fieldlidar/follow/pipeline.hpp"
 
 #include <cmath>
+#include <utility>
 
 namespace fieldlidar::follow {
 
@@ -88,8 +89,13 @@ FollowPipeline::FollowPipeline(const SensorModel& sensor, const FollowConfig& co
 
 FrameOutput FollowPipeline::step(const PointCloud& cloud, const Pose& T_world_lidar,
                                  const Pose2& mower, double stamp_s, double dt_s) {
+  return follow(perceive(cloud, sensor_, T_world_lidar, config_), mower, stamp_s, dt_s);
+}
+
+FrameOutput FollowPipeline::follow(Perception perception, const Pose2& mower, double stamp_s,
+                                   double dt_s) {
   FrameOutput out;
-  out.perception = perceive(cloud, sensor_, T_world_lidar, config_);
+  out.perception = std::move(perception);
   // Step 5: Kalman tracking in the world frame.
   const auto upd = tracker_.update(stamp_s, out.perception.people_m);
   // Step 4: the target, by id when the operator chose one, else the person ahead.

@@ -270,13 +270,35 @@ OdometrySample parse_odometry(std::span<const std::uint8_t> bytes) {
   WireReader r(bytes, "nav_msgs/Odometry");
   OdometrySample s;
   s.stamp_s = r.header();
-  r.string();  // child_frame_id
+  s.child_frame_id = r.string();
   s.pose = r.pose();
   r.skip(36 * 8);
   s.linear_m_s = r.vector3();
   s.angular_rad_s = r.vector3();
   r.skip(36 * 8);
   return s;
+}
+
+OdometrySample parse_twist_stamped(std::span<const std::uint8_t> bytes) {
+  WireReader r(bytes, "geometry_msgs/TwistStamped");
+  OdometrySample s;
+  s.stamp_s = r.header();
+  s.linear_m_s = r.vector3();
+  s.angular_rad_s = r.vector3();
+  return s;
+}
+
+std::vector<TransformSample> parse_tf_message(std::span<const std::uint8_t> bytes) {
+  WireReader r(bytes, "tf2_msgs/TFMessage");
+  // geometry_msgs/TransformStamped: header (>= 16 bytes), child_frame_id (>= 4), 7 doubles.
+  const std::uint32_t n = r.length(16 + 4 + 56);
+  std::vector<TransformSample> out(n);
+  for (auto& t : out) {
+    t.stamp_s = r.header(&t.parent);
+    t.child = r.string();
+    t.T_parent_child = r.pose();
+  }
+  return out;
 }
 
 PoseArraySample parse_pose_array(std::span<const std::uint8_t> bytes) {

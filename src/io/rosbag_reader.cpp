@@ -1,137 +1,17 @@
-// ROS1 bags through rosbag_storage; messages decoded from their serialized bytes.
+// ROS1 bags through rosbag_storage: the frame source, topic listing and person annotations;
+// messages decoded from their serialized bytes.
 #include "fieldlidar/io/rosbag_reader.hpp"
 
 #include <algorithm>
 #include <cstring>
-#include <deque>
-#include <limits>
 #include <optional>
 
-#include <ros/serialization.h>
-#include <rosbag/bag.h>
-#include <rosbag/view.h>
-
-#include "fieldlidar/core/error.hpp"
+#include "rosbag_common.hpp"
 
 namespace fieldlidar::io {
 namespace {
 
-// md5 sums of the ROS1 message definitions this reader decodes (from the connection header; a
-// different sum means a different layout, which must not be decoded with these parsers).
-struct KnownType {
-  const char* datatype;
-  const char* md5;
-};
-constexpr KnownType kLaserScan{"sensor_msgs/LaserScan", "90c7ef2dc6895d81024acba2ac42f369"};
-constexpr KnownType kPointCloud2{"sensor_msgs/PointCloud2", "1158d486dd51d683ce2f1be655c3c181"};
-constexpr KnownType kImu{"sensor_msgs/Imu", "6a62c6daae103f4ff57a132d6f95cec2"};
-constexpr KnownType kOdometry{"nav_msgs/Odometry", "cd5e73d190d741a2f92e81eda573aca7"};
-constexpr KnownType kPoseArray{"geometry_msgs/PoseArray", "916c28c5764443f268b296bb671b9d97"};
-constexpr KnownType kPerson{"leg_tracker/Person", "4f334171b5664340c323a1982b554a22"};
-
-bool is_type(const BagTopic& t, const KnownType& k) {
-  return t.datatype == k.datatype;
-}
-
-void check_md5(const std::filesystem::path& bag, const BagTopic& t, const KnownType& k) {
-  if (t.md5sum != k.md5 && t.md5sum != "*")
-    throw Error(bag.string() + ": topic '" + t.name + "' has type " + t.datatype + " with md5 " +
-                t.md5sum + ", expected " + k.md5 + " (a different message definition)");
-}
-
-std::string list_topics(const std::vector<BagTopic>& topics) {
-  std::string s;
-  for (const auto& t : topics)
-    s += (s.empty() ? "" : ", ") + t.name + " [" + t.datatype + ", " + std::to_string(t.messages) +
-         "]";
-  return s.empty() ? "(none)" : s;
-}
-
-std::unique_ptr<rosbag::Bag> open_bag(const std::filesystem::path& path) {
-  if (!std::filesystem::exists(path)) throw Error(path.string() + ": no such file");
-  auto bag = std::make_unique<rosbag::Bag>();
-  try {
-    bag->open(path.string(), rosbag::bagmode::Read);
-  } catch (const std::exception& e) {
-    throw Error(path.string() + ": not a readable ROS1 bag (" + e.what() + ")");
-  }
-  return bag;
-}
-
-std::vector<BagTopic> topics_of(rosbag::Bag& bag) {
-  std::vector<BagTopic> out;
-  rosbag::View all(bag);
-  for (const rosbag::ConnectionInfo* c : all.getConnections()) {
-    auto it =
-        std::find_if(out.begin(), out.end(), [&](const BagTopic& t) { return t.name == c->topic; });
-    if (it != out.end()) continue;
-    BagTopic t;
-    t.name = c->topic;
-    t.datatype = c->datatype;
-    t.md5sum = c->md5sum;
-    out.push_back(t);
-  }
-  for (auto& t : out) t.messages = rosbag::View(bag, rosbag::TopicQuery(t.name)).size();
-  std::sort(out.begin(), out.end(),
-            [](const BagTopic& a, const BagTopic& b) { return a.name < b.name; });
-  return out;
-}
-
-void message_bytes(const rosbag::MessageInstance& m, std::vector<std::uint8_t>& buf) {
-  buf.resize(m.size());
-  ros::serialization::OStream s(buf.data(), std::uint32_t(buf.size()));
-  m.write(s);
-}
-
-/// Lazily walks the messages of some topics in bag-time order, with one message of look-ahead.
-template <class Sample>
-class TopicStream {
- public:
-  using Parser = Sample (*)(std::span<const std::uint8_t>);
-  TopicStream(rosbag::Bag& bag, const std::vector<std::string>& topics, Parser parse,
-              std::string source)
-      : parse_(parse), source_(std::move(source)) {
-    if (topics.empty()) return;
-    view_ = std::make_unique<rosbag::View>(bag, rosbag::TopicQuery(topics));
-    it_ = view_->begin();
-  }
-  std::vector<Sample> until(double until_s) {
-    std::vector<Sample> out;
-    if (!view_) return out;
-    for (;;) {
-      if (!pending_) {
-        std::string topic;
-        try {
-          if (it_ == view_->end()) break;
-          message_bytes(*it_, buf_);
-          topic = it_->getTopic();
-          ++it_;
-        } catch (const rosbag::BagException& e) {
-          throw Error(source_ + ": a message cannot be read: " + e.what());
-        }
-        try {
-          pending_ = parse_(buf_);
-        } catch (const Error& e) {
-          throw Error(source_ + ": topic '" + topic + "': " + e.what());
-        }
-      }
-      if (pending_->stamp_s > until_s) break;
-      out.push_back(std::move(*pending_));
-      pending_.reset();
-    }
-    std::stable_sort(out.begin(), out.end(),
-                     [](const Sample& a, const Sample& b) { return a.stamp_s < b.stamp_s; });
-    return out;
-  }
-
- private:
-  Parser parse_;
-  std::string source_;
-  std::unique_ptr<rosbag::View> view_;
-  rosbag::View::iterator it_;
-  std::optional<Sample> pending_;
-  std::vector<std::uint8_t> buf_;
-};
+using namespace rosbag_detail;
 
 class RosbagSource final : public FrameSource {
  public:
@@ -232,23 +112,6 @@ std::map<std::string, std::size_t> bag_topic_counts(const std::filesystem::path&
   std::map<std::string, std::size_t> out;
   for (const auto& t : bag_topics(bag)) out[t.name] = t.messages;
   return out;
-}
-
-std::vector<PoseArraySample> read_pose_arrays(const std::filesystem::path& bag,
-                                              const std::string& topic) {
-  auto b = open_bag(bag);
-  const auto topics = topics_of(*b);
-  auto it = std::find_if(topics.begin(), topics.end(),
-                         [&](const BagTopic& t) { return t.name == topic; });
-  if (it == topics.end())
-    throw Error(bag.string() + ": no topic '" + topic +
-                "' in the bag; topics: " + list_topics(topics));
-  if (!is_type(*it, kPoseArray))
-    throw Error(bag.string() + ": topic '" + topic + "' is " + it->datatype +
-                ", not geometry_msgs/PoseArray");
-  check_md5(bag, *it, kPoseArray);
-  TopicStream<PoseArraySample> stream(*b, {topic}, &parse_pose_array, bag.string());
-  return stream.until(std::numeric_limits<double>::infinity());
 }
 
 std::vector<ScanAnnotations> read_person_annotations(const std::filesystem::path& bag,

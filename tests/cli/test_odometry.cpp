@@ -42,5 +42,25 @@ TEST(CliOdometry, SimulatorFolderWritesPosesMapAndSummary) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
 }
 
+TEST(CliOdometry, ImuAndOdomTopicsOfABagAreCheckedByType) {
+  const char* bag = "legs_2d_tracking/general_tracking_moving_1.bag";
+  FIELDLIDAR_REQUIRE_DATA(bag);
+  const auto dir = test::temp_dir("cli_odometry_topics");
+  const std::string in = test::data_file(bag).string(), out = " --out " + dir.string();
+  // /odom is nav_msgs/Odometry: a wheel topic, not an IMU one.
+  auto r = test::run_cli("odometry " + in + " --imu /odom" + out);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("'/odom' is nav_msgs/Odometry, not sensor_msgs/Imu"), std::string::npos)
+      << r.output;
+  r = test::run_cli("odometry " + in + " --odom /wheels" + out);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("no topic '/wheels'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("/odom [nav_msgs/Odometry, 11561]"), std::string::npos) << r.output;
+  // A topic name needs a bag.
+  r = test::run_cli("odometry " + dir.string() + " --odom /odom" + out);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("needs a .bag INPUT"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace fieldlidar

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/follow/replay.hpp"
 #include "fieldlidar/people/leg_training.hpp"
 #include "support/shipped_data.hpp"
 
@@ -70,7 +71,7 @@ LegsRunner::LegsRunner(const LegsRunOptions& o)
 
 FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSource& source) {
   FrameLegsPeople out;
-  if (frame.cloud.ring_count() <= 1) {
+  if (follow::is_planar_scan(frame.cloud)) {
     // A 2D scan is one ring: points in beam order. Persons are the pipeline's tracked people.
     if (!missing_config_.empty()) throw Error(missing_config_);
     scans_2d_ = true;
@@ -89,7 +90,9 @@ FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSourc
       throw Error(options_.input + ": 3D frames of an unknown sensor: give --sensor (e.g. vlp16)");
   }
   follow_cfg_.legs = options_.config.empty() ? follow::FollowConfig::default_3d_legs() : legs_;
-  const auto per = follow::perceive(frame.cloud, *sensor_, Pose::Identity(), follow_cfg_);
+  PointCloud cloud = frame.cloud;
+  follow::ensure_rings(cloud, *sensor_);  // KITTI and unorganised PCD have no ring field
+  const auto per = follow::perceive(cloud, *sensor_, Pose::Identity(), follow_cfg_);
   out.legs = per.legs_m;
   // Tracking in the sensor frame (the sensor is assumed still); confirmed tracks only.
   const auto upd = tracker_.update(frame.stamp_s, per.people_m);
@@ -101,6 +104,11 @@ FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSourc
     out.person_ids.push_back(id);
   }
   return out;
+}
+
+const people::LegPipeline2DConfig& LegsRunner::config_2d() const {
+  if (!missing_config_.empty()) throw Error(missing_config_);
+  return pipeline_->config();
 }
 
 std::string LegsRunner::detector_summary() const {

@@ -45,6 +45,9 @@ class LegsRunner {
   FrameLegsPeople process(const io::Frame& frame, const io::FrameSource& source);
   /// True once a 2D scan was processed.
   bool scans_2d() const { return scans_2d_; }
+  /// The 2D leg pipeline's config as loaded (detector, classifier); throws fieldlidar::Error
+  /// when the shipped config is missing and was needed.
+  const people::LegPipeline2DConfig& config_2d() const;
   /// "2D detector <config>, classifier <file>" for the report.
   std::string detector_summary() const;
 

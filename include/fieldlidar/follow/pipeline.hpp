@@ -93,6 +93,11 @@ class FollowPipeline {
   FrameOutput step(const PointCloud& cloud_lidar, const Pose& T_world_lidar, const Pose2& mower,
                    double stamp_s, double dt_s);
 
+  /// Steps 4-8 on a perception made elsewhere (e.g. 2D laser scans through
+  /// people::LegPipeline2D), people in the world frame: tracking, target choice, safety and
+  /// drive, boundary. step() is perceive() followed by this.
+  FrameOutput follow(Perception perception, const Pose2& mower, double stamp_s, double dt_s);
+
   /// The stop command: closes the recorded boundary.
   BoundaryPolygon stop() const { return recorder_.close(); }
 

@@ -41,6 +41,7 @@ struct OdometrySample {
   Pose pose = Pose::Identity();
   Eigen::Vector3d linear_m_s = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_rad_s = Eigen::Vector3d::Zero();
+  std::string child_frame_id;  ///< the frame whose pose this is (e.g. base_link), when known
 };
 
 struct PoseArraySample {

@@ -1,0 +1,207 @@
+// fieldlidar follow --replay BAG: the follow pipeline on a real recording. Perception, tracking,
+// target choice, safety rule and controller run as on the mower; the robot's motion is the
+// recording's (its odometry topic, or standing still), so the wheel commands are logged only.
+
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/follow/replay.hpp"
+#include "fieldlidar/io/file_util.hpp"
+#include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/io/rosbag_reader.hpp"
+#include "fieldlidar/io/trajectory_io.hpp"
+#include "fieldlidar/loops/closed_loop.hpp"
+#include "follow_job.hpp"
+#include "support/legs_runner.hpp"
+#include "support/option_checks.hpp"
+#include "support/warnings.hpp"
+
+namespace fieldlidar::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The recorded odometry as a trajectory (samples with a repeated stamp dropped); `child_frame`
+/// is set to the frame it tracks (the base).
+Trajectory odometry_trajectory(const fs::path& bag, const std::string& topic,
+                               std::string& child_frame) {
+  Trajectory t;
+  for (const auto& s : io::read_odometry_topic(bag, topic)) {
+    if (child_frame.empty()) child_frame = s.child_frame_id;
+    if (t.empty() || s.stamp_s > t.poses().back().stamp_s) t.push_back(s.stamp_s, s.pose);
+  }
+  if (t.size() < 2)
+    throw Error(bag.string() + ": topic '" + topic + "' holds fewer than 2 odometry poses");
+  return t;
+}
+
+/// The pose at `stamp_s`, held at the ends of the recorded span.
+Pose pose_at(const Trajectory& t, double stamp_s) {
+  if (auto p = t.at(stamp_s)) return *p;
+  return stamp_s < t.poses().front().stamp_s ? t.poses().front().pose : t.poses().back().pose;
+}
+
+/// The scan topic: --topic, else the bag's only scan topic (as the frame source chooses it).
+std::string source_topic(const FollowOptions& o) {
+  if (!o.topic.empty()) return o.topic;
+  for (const auto& t : io::bag_topics(o.replay))
+    if (t.datatype == "sensor_msgs/LaserScan" || t.datatype == "sensor_msgs/PointCloud2")
+      return t.name;
+  return {};
+}
+
+loops::LogRow log_row(const follow::ReplayFrame& f) {
+  loops::LogRow r;
+  r.t_s = f.stamp_s;
+  r.mower_x = r.mower_est_x = f.mower.x_m;
+  r.mower_y = r.mower_est_y = f.mower.y_m;
+  r.mower_yaw = r.mower_est_yaw = f.mower.yaw_rad;
+  if (f.output.target_world_m) {
+    r.est_x = f.output.target_world_m->x();
+    r.est_y = f.output.target_world_m->y();
+  }
+  r.true_x = r.true_y = r.true_distance_m = NAN;  // a recording has no truth
+  r.distance_m = f.output.control.distance_m >= 0 ? f.output.control.distance_m : NAN;
+  r.wheel_left = f.output.control.command.left_m_s;
+  r.wheel_right = f.output.control.command.right_m_s;
+  r.state = f.output.control.state;
+  r.target_id = f.output.target_id ? std::int64_t(*f.output.target_id) : -1;
+  r.people_detected = f.people_detected;
+  r.perception_ms = f.perception_ms;
+  return r;
+}
+
+}  // namespace
+
+void run_follow_replay(const FollowOptions& o) {
+  follow::ReplayConfig cfg;
+  if (o.target_id >= 0) cfg.follow.target_id = std::uint32_t(o.target_id);
+  if (o.safe_distance_m > 0) cfg.follow.safety.safe_distance_m = o.safe_distance_m;
+  if (o.max_distance_m > 0) cfg.follow.safety.max_distance_m = o.max_distance_m;
+  require(cfg.follow.safety.safe_distance_m < cfg.follow.safety.max_distance_m, "--safe-distance",
+          fmt::format("{} m must be below --max-distance {} m", cfg.follow.safety.safe_distance_m,
+                      cfg.follow.safety.max_distance_m));
+  const fs::path dir(o.out), log = dir / "follow_log.csv", summary = dir / "summary.json";
+  if (fs::exists(dir) && !fs::is_directory(dir))
+    throw Error("--out " + o.out + ": exists and is not a folder");
+  if (fs::is_directory(dir))
+    for (const auto& p : {log, summary}) io::check_writable(p, o.force);
+
+  // A simulator folder: its PCD sweeps, stamped by its times.txt.
+  fs::path input(o.replay);
+  std::vector<double> times;
+  if (fs::is_directory(input) && fs::exists(input / "times.txt") &&
+      fs::is_directory(input / "pcd")) {
+    times = io::read_kitti_times(input / "times.txt");
+    input = input / "pcd";
+  }
+  io::SourceOptions so;
+  so.topic = o.topic;
+  auto source = io::FrameSource::open(input, so);
+  std::optional<Trajectory> motion;
+  std::string base_frame, sensor_frame, mount_from = "none (the sensor is the base)";
+  if (!o.odom_topic.empty() && fs::is_regular_file(o.odom_topic) && input.extension() != ".bag") {
+    // A TUM pose file (e.g. a simulator folder's poses_tum.txt): the sensor's poses.
+    motion = io::read_tum(o.odom_topic);
+  } else if (!o.odom_topic.empty()) {
+    motion = odometry_trajectory(o.replay, o.odom_topic, base_frame);
+    // The scan's mount on the base from the recorded transforms.
+    sensor_frame = io::first_frame_id(o.replay, source_topic(o));
+    if (const auto T = io::read_mount_transform(o.replay, base_frame, sensor_frame)) {
+      cfg.T_base_sensor = *T;
+      mount_from = "/tf: " + base_frame + " -> " + sensor_frame;
+    } else {
+      warn(
+          fmt::format("no transform {} -> {} in the bag: the scans are taken as seen from the "
+                      "base's origin and heading",
+                      base_frame, sensor_frame));
+    }
+  }
+  LegsRunOptions lo;
+  lo.input = o.replay;
+  lo.config = o.legs_config;
+  LegsRunner legs(lo);
+  std::optional<follow::FollowReplay> replay;
+  std::vector<loops::LogRow> rows;
+  std::string topic;
+  std::optional<double> max_time_end;
+  while (auto frame = source->next()) {
+    if (!replay) {
+      if (follow::is_planar_scan(frame->cloud)) cfg.legs_2d = legs.config_2d();
+      auto sensor = source->sensor();
+      if (!sensor) sensor = SensorModel::preset(o.sensor);
+      if (!sensor) throw Error("--sensor '" + o.sensor + "': unknown sensor preset");
+      replay.emplace(*sensor, cfg);
+      topic = frame->topic;
+      if (o.max_time_s > 0) max_time_end = frame->stamp_s + o.max_time_s;
+    }
+    if (frame->index < times.size()) frame->stamp_s = frame->cloud.stamp_s = times[frame->index];
+    if (max_time_end && frame->stamp_s > *max_time_end) break;
+    std::optional<Pose> pose;
+    if (motion) pose = pose_at(*motion, frame->stamp_s);
+    rows.push_back(log_row(replay->step(frame->cloud, frame->stamp_s, pose)));
+    fmt::print(stderr, "\rframe {} ({:.0f} %)   ", frame->index, 100 * source->progress());
+  }
+  fmt::print(stderr, "\n");
+  if (!replay) throw Error(o.replay + ": no frame on the scan topic");
+  for (const auto& w : source->warnings()) warn(w);
+
+  const auto& s = replay->summary();
+  auto state_frames = [&](follow::FollowState st) { return s.frames_by_state[std::size_t(st)]; };
+  nlohmann::json j;
+  j["replay"] = o.replay;
+  j["topic"] = topic;
+  j["odom_topic"] = o.odom_topic;
+  j["motion"] = motion ? "the recording's odometry (" + o.odom_topic + ")" : "standing still";
+  j["detector"] = legs.detector_summary();
+  j["sensor_mount"] = {{"from", mount_from},
+                       {"x_m", cfg.T_base_sensor.translation().x()},
+                       {"y_m", cfg.T_base_sensor.translation().y()},
+                       {"yaw_deg", yaw_of(cfg.T_base_sensor) * 180 / M_PI}};
+  j["frames"] = s.frames;
+  j["duration_s"] = s.duration_s;
+  j["frame"] = motion ? "odometry frame of the recording, x-y in metres"
+                      : "sensor frame (the robot stands still), x-y in metres";
+  j["metrics"] = {{"target_id", s.first_target_id ? std::int64_t(*s.first_target_id) : -1},
+                  {"frames_before_target_chosen", s.frames - s.frames_with_target_chosen},
+                  {"frames_target_held", s.frames_target_held},
+                  {"target_held_fraction", s.target_held_fraction()},
+                  {"target_held_fraction_of_all_frames",
+                   s.frames ? double(s.frames_target_held) / double(s.frames) : 0.0},
+                  {"target_switches", s.target_switches},
+                  {"distinct_target_ids", s.distinct_target_ids},
+                  {"frames_following", s.frames_following},
+                  {"stops", s.stops},
+                  {"frames_stopped",
+                   {{"idle_no_target", state_frames(follow::FollowState::kIdle)},
+                    {"too_close", state_frames(follow::FollowState::kTooClose)},
+                    {"too_far", state_frames(follow::FollowState::kTooFar)},
+                    {"lost", state_frames(follow::FollowState::kLost)}}},
+                  {"path_length_m", s.path_length_m},
+                  {"mean_perception_ms", s.mean_perception_ms},
+                  {"max_perception_ms", s.max_perception_ms}};
+  j["safety"] = {{"L_s_m", cfg.follow.safety.safe_distance_m},
+                 {"L_m_m", cfg.follow.safety.max_distance_m}};
+  fs::create_directories(dir);
+  io::write_file_atomic(log, loops::log_csv(rows), o.force);
+  io::write_file_atomic(summary, j.dump(2) + "\n", o.force);
+  fmt::print(
+      "follow replay: {} frames ({:.1f} s), {}; target id {} held in {:.1f} % of the frames since "
+      "chosen ({} switches); following {} frames; stopped: {} idle, {} too close, {} too far, {} "
+      "lost ({} stops); perception {:.2f} ms per frame\nwrote {}\n",
+      s.frames, s.duration_s, motion ? "recorded odometry" : "standing still",
+      s.first_target_id ? std::int64_t(*s.first_target_id) : -1, 100 * s.target_held_fraction(),
+      s.target_switches, s.frames_following, state_frames(follow::FollowState::kIdle),
+      state_frames(follow::FollowState::kTooClose), state_frames(follow::FollowState::kTooFar),
+      state_frames(follow::FollowState::kLost), s.stops, s.mean_perception_ms, dir.string());
+}
+
+}  // namespace fieldlidar::app
