@@ -43,7 +43,7 @@ std::vector<ScanSegment> segment_scan_lines(const PointCloud& cloud,
 /// Step 2: stacking segments into trunk candidates.
 struct StackConfig {
   double max_offset_m = 0.25;  ///< horizontal distance of centroids on neighbouring lines
-  int max_line_gap = 3;        ///< lines skipped between two segments of one stack (occlusion)
+  int max_line_gap = 8;        ///< lines skipped between two segments of one stack (occlusion)
   double max_step_m = 1.5;     ///< vertical gap between stacked centroids
   std::size_t min_segments = 3;
   double min_extent_m = 0.4;  ///< vertical extent of the centroids
