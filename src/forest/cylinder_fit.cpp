@@ -87,8 +87,7 @@ Cylinder fit_cylinder(std::span<const Eigen::Vector3d> points, const Eigen::Vect
       std::size_t kept = 0;
       bool changed = false;
       for (std::size_t i = 0; i < q.size(); ++i) {
-        const bool k =
-            std::abs((q[i].head<2>() - m.c - m.s * q[i].z()).norm() - m.r) <= thr;
+        const bool k = std::abs((q[i].head<2>() - m.c - m.s * q[i].z()).norm() - m.r) <= thr;
         changed |= (k != bool(keep[i]));
         keep[i] = k;
         kept += k;

@@ -7,7 +7,9 @@
 
 namespace fieldlidar::forest {
 
-std::int64_t GroundIndex::cell(double v) { return std::int64_t(std::floor(v)); }
+std::int64_t GroundIndex::cell(double v) {
+  return std::int64_t(std::floor(v));
+}
 
 GroundIndex::GroundIndex(const PointCloud& cloud, std::span<const std::uint8_t> is_ground) {
   for (std::size_t i = 0; i < is_ground.size(); ++i)

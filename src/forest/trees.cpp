@@ -242,7 +242,8 @@ TreeResult extract_trees(const PointCloud& cloud, std::span<const std::uint8_t> 
   if (config.silhouette_dbh && cloud.fields.ring && !stacks.empty()) rings.emplace(cloud);
   std::vector<std::pair<Tree, std::size_t>> cands;
   for (const auto& stem : join_stacks(segments, stacks, config))
-    if (auto t = tree_from_stem(cloud, segments, rings ? &*rings : nullptr, stem, ground, config)) cands.emplace_back(*t, stem.points.size());
+    if (auto t = tree_from_stem(cloud, segments, rings ? &*rings : nullptr, stem, ground, config))
+      cands.emplace_back(*t, stem.points.size());
   // Stems left apart (split by an occluder): the best supported one stays.
   std::sort(cands.begin(), cands.end(),
             [](const auto& a, const auto& b) { return a.second > b.second; });

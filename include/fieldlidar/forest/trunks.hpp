@@ -96,7 +96,7 @@ struct Cylinder {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< a point on the axis
   Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();
   double radius_m = 0.0;
-  double residual_m = 0.0;             ///< RMS distance of the kept points to the surface
+  double residual_m = 0.0;           ///< RMS distance of the kept points to the surface
   std::vector<std::size_t> inliers;  ///< indices of the points kept
   bool ok = false;
 };
@@ -111,21 +111,21 @@ struct TreeConfig {
   StackConfig stacks;
   double min_radius_m = 0.03;
   double max_radius_m = 0.6;
-  double max_tilt_deg = 30.0;      ///< axes leaning more than this are not trunks
-  double max_residual_m = 0.06;    ///< trees whose stem fit is worse are dropped (RMS, m)
+  double max_tilt_deg = 30.0;         ///< axes leaning more than this are not trunks
+  double max_residual_m = 0.06;       ///< trees whose stem fit is worse are dropped (RMS, m)
   double plot_max_residual_m = 0.03;  ///< the same for a plot cloud (no rings: TLS/MLS, mm noise)
-  double min_arc_deg = 60.0;       ///< and those seen over a narrower arc
-  double min_extent_seen_m = 1.0;  ///< and those whose stem points span less height
-  double dbh_height_m = 1.3;       ///< above the ground
-  double dbh_window_m = 1.0;       ///< stem points within this of DBH height (along the axis) fit
-                                   ///< the cylinder; low branches and twigs are trimmed
-  std::size_t min_stem_points = 8; ///< fewer in the window: not a tree
-  double min_fit_span_m = 0.8;     ///< a shorter window span keeps the stacked axis direction
-  double max_base_height_m = 3.0;  ///< the lowest segment must be within this of the ground
-  double ground_radius_m = 1.5;    ///< ground points within this of the axis give its base
-  double merge_distance_m = 0.3;   ///< stacks whose axes pass this close at DBH are one tree
-  double join_distance_m = 0.15;   ///< a stack lying on another's axis (a break) joins it
-  CylinderFitConfig cylinder;      ///< radius bounds are taken from min/max_radius_m
+  double min_arc_deg = 60.0;          ///< and those seen over a narrower arc
+  double min_extent_seen_m = 1.0;     ///< and those whose stem points span less height
+  double dbh_height_m = 1.3;          ///< above the ground
+  double dbh_window_m = 1.0;        ///< stem points within this of DBH height (along the axis) fit
+                                    ///< the cylinder; low branches and twigs are trimmed
+  std::size_t min_stem_points = 8;  ///< fewer in the window: not a tree
+  double min_fit_span_m = 0.8;      ///< a shorter window span keeps the stacked axis direction
+  double max_base_height_m = 3.0;   ///< the lowest segment must be within this of the ground
+  double ground_radius_m = 1.5;     ///< ground points within this of the axis give its base
+  double merge_distance_m = 0.3;    ///< stacks whose axes pass this close at DBH are one tree
+  double join_distance_m = 0.15;    ///< a stack lying on another's axis (a break) joins it
+  CylinderFitConfig cylinder;       ///< radius bounds are taken from min/max_radius_m
   /// A sweep (rings, sensor at the origin): DBH from the stem's silhouette (angle between the
   /// outermost returns of each scan line, median over the lines near breast height), which range
   /// noise does not bias as it does a fit to a partial arc. Plot files always use the fit.
