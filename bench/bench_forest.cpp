@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "fieldlidar/forest/tracking.hpp"
 #include "fieldlidar/forest/trunks.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/segmentation/ground.hpp"
@@ -56,6 +57,29 @@ void pine_plot(benchmark::State& state) {
   state.counters["points"] = double(cloud.size());
 }
 
+// Tracking on top of extraction: one scan of a drive tracked against the map of the scans before
+// it (the time of the track call less extraction alone is the tracking cost).
+void tracking(benchmark::State& state) {
+  const auto sensor = SensorModel::vlp16();
+  const auto scene = sim::make_forest_scene({}, 3);
+  const auto motion = sim::drive_scene_route(scene, 5.0);
+  const sim::LidarSimulator sim(scene, sensor);
+  std::vector<PointCloud> clouds;
+  std::vector<std::vector<std::uint8_t>> grounds;
+  for (int f = 0; f < 20; ++f) {
+    clouds.push_back(sim.scan(0.1 * f, motion.lidar_pose_fn()).cloud);
+    grounds.push_back(segmentation::segment_ground(clouds.back(), sensor).is_ground);
+  }
+  forest::TrunkTracker warm;
+  for (int f = 0; f < 19; ++f) warm.track(clouds[f], grounds[f]);
+  for (auto _ : state) {
+    forest::TrunkTracker tracker = warm;
+    benchmark::DoNotOptimize(tracker.track(clouds[19], grounds[19]).matched);
+  }
+  state.counters["map_trunks"] = double(warm.map().size());
+}
+
+BENCHMARK(tracking)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(trees_with_ground, vlp16, SensorModel::vlp16())->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(trees_with_ground, os1_64, SensorModel::os1_64())->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(trees_only, vlp16, SensorModel::vlp16())->Unit(benchmark::kMillisecond);
