@@ -2,9 +2,12 @@
 // trees.csv, trees.geojson and a top-down picture of the stems as DBH circles over the points;
 // of a sequence: the pose of every scan tracked against a trunk map, and that map.
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
+#include <unordered_map>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -157,24 +160,57 @@ std::string trees_geojson(const std::vector<forest::Tree>& trees, const Eigen::V
   return fc.dump(1) + "\n";
 }
 
+// Height of each point above the ground: the lowest ground return of its 1 m cell (or of the
+// nearest cells around it); NaN where no ground is near.
+std::vector<float> height_above_ground(const PointCloud& cloud,
+                                       const std::vector<std::uint8_t>& ground) {
+  std::unordered_map<std::int64_t, float> low;
+  auto key = [](float x, float y) {
+    return (std::int64_t(std::floor(x)) << 32) ^ (std::int64_t(std::floor(y)) & 0xffffffff);
+  };
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (ground[i] && cloud.points[i].is_valid()) {
+      auto [it, fresh] = low.emplace(key(cloud.points[i].x, cloud.points[i].y), cloud.points[i].z);
+      if (!fresh) it->second = std::min(it->second, cloud.points[i].z);
+    }
+  std::vector<float> h(cloud.size(), std::numeric_limits<float>::quiet_NaN());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const auto& p = cloud.points[i];
+    if (!p.is_valid()) continue;
+    for (int r = 0; r <= 2 && std::isnan(h[i]); ++r)
+      for (int dx = -r; dx <= r; ++dx)
+        for (int dy = -r; dy <= r; ++dy) {
+          auto it = low.find(key(p.x + float(dx), p.y + float(dy)));
+          if (it != low.end() && (std::isnan(h[i]) || p.z - it->second < h[i]))
+            h[i] = p.z - it->second;
+        }
+  }
+  return h;
+}
+
+// Top-down: every point faint, the 1.2-1.4 m slice above the ground dark, the DBH circles.
 void draw(const PointCloud& cloud, const std::vector<std::uint8_t>& ground,
           const std::vector<forest::Tree>& trees, const fs::path& path, bool force) {
   const Bounds3 b = compute_bounds(cloud);
   if (b.empty()) return;
   TopDownCanvas canvas(b.min.head<2>(), b.max.head<2>());
+  const auto h = height_above_ground(cloud, ground);
   const std::size_t step = std::max<std::size_t>(1, cloud.size() / 200000);
   for (std::size_t i = 0; i < cloud.size(); i += step)
-    if (cloud.points[i].is_valid())
+    if (cloud.points[i].is_valid() && !(h[i] >= 1.2f && h[i] <= 1.4f))
       canvas.dot({cloud.points[i].x, cloud.points[i].y},
-                 ground[i] ? Rgb{0.8, 0.75, 0.6} : Rgb{0.6, 0.65, 0.7}, 0.6);
+                 ground[i] ? Rgb{0.9, 0.87, 0.8} : Rgb{0.85, 0.87, 0.9}, 0.5);
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (h[i] >= 1.2f && h[i] <= 1.4f)
+      canvas.dot({cloud.points[i].x, cloud.points[i].y}, {0.15, 0.15, 0.2}, 0.7);
   for (const auto& t : trees) {
     const Eigen::Vector2d c = t.at_height(1.3).head<2>();
     canvas.circle(c, t.dbh_m / 2, palette(t.id), 2.0);
     canvas.text(c + Eigen::Vector2d(t.dbh_m / 2 + 0.1, 0), std::to_string(t.id), {0, 0, 0}, 11);
   }
   canvas.title(fmt::format("trunks: {} trees", trees.size()));
-  canvas.legend({{"ground", {0.8, 0.75, 0.6}},
-                 {"other points", {0.6, 0.65, 0.7}},
+  canvas.legend({{"points 1.2-1.4 m above the ground", {0.15, 0.15, 0.2}},
+                 {"other points", {0.85, 0.87, 0.9}},
                  {"stem at 1.3 m (DBH)", palette(1)}});
   canvas.save_png(path, force);
 }
