@@ -307,7 +307,7 @@ void run_sequence(const TrunksOptions& o) {
   }
   fmt::print(stderr, "\n");
   if (!tracker) throw Error(o.input + ": no frame");
-  const auto trees = tracker->map_trees(2);
+  const auto trees = tracker->map_trees();
   const io::WriteOptions wo{.overwrite = o.force};
   io::write_kitti_poses(out / "poses.txt", poses, wo);
   io::write_tum(out / "poses_tum.txt", poses, wo);
@@ -316,7 +316,7 @@ void run_sequence(const TrunksOptions& o) {
                         o.force);
   draw_map(trees, path, out / "trees.png", o.force);
   fmt::print(
-      "{}: {} scans ({} tracked on trunks{}), {:.2f} m; trunk map: {} trees seen twice or "
+      "{}: {} scans ({} tracked on trunks{}), {:.2f} m; trunk map: {} trees seen in 5 scans or "
       "more -> {}\n",
       o.input, poses.size(), tracked, odo ? ", odometry prior" : "", poses.path_length_m(),
       trees.size(), out.string());

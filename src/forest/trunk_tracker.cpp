@@ -149,10 +149,10 @@ void TrunkTracker::update_map(std::span<const Tree> trees, std::span<const Trunk
   }
 }
 
-std::vector<Tree> TrunkTracker::map_trees(std::size_t min_observations) const {
+std::vector<Tree> TrunkTracker::map_trees() const {
   std::vector<Tree> out;
   for (const auto& m : map_) {
-    if (m.observations < min_observations) continue;
+    if (m.observations < config_.map_min_observations) continue;
     Tree t;
     t.id = m.id;
     t.axis = m.landmark.axis;

@@ -91,10 +91,11 @@ struct TrackerConfig {
   MotionConfig motion;
   double sweep_period_s = 0.1;  ///< for de-skewing by the predicted motion (needs point times)
   bool deskew = true;
-  double motion_smoothing = 0.3;      ///< weight of the newest motion in the predicted one
-  double map_radius_m = 25.0;         ///< map trunks this near the predicted pose are matched
-  double new_trunk_distance_m = 0.5;  ///< an unmatched tree this near a mapped one is not added
-  double max_range_m = 15.0;          ///< trees farther than this do not enter the map
+  double motion_smoothing = 0.3;          ///< weight of the newest motion in the predicted one
+  double map_radius_m = 25.0;             ///< map trunks this near the predicted pose are matched
+  double new_trunk_distance_m = 0.5;      ///< an unmatched tree this near a mapped one is not added
+  double max_range_m = 15.0;              ///< trees farther than this do not enter the map
+  std::size_t map_min_observations = 5;  ///< a map trunk is reported once seen in this many scans
 };
 
 struct TrackResult {
@@ -112,8 +113,8 @@ class TrunkTracker {
   TrackResult track(const PointCloud& cloud, std::span<const std::uint8_t> is_ground,
                     const std::optional<Pose>& prior_motion = std::nullopt);
   const std::vector<MappedTrunk>& map() const { return map_; }
-  /// Map trunks seen at least `min_observations` times, as trees (world frame).
-  std::vector<Tree> map_trees(std::size_t min_observations = 2) const;
+  /// Map trunks seen in at least config.map_min_observations scans, as trees (world frame).
+  std::vector<Tree> map_trees() const;
   const Pose& pose() const { return T_world_lidar_; }
 
  private:
