@@ -50,7 +50,8 @@ void segment_ring(const PointCloud& cloud, int ring, std::vector<std::uint32_t>&
       const auto& a = cloud.points[order[k - 1].second];
       const auto& b = cloud.points[order[k].second];
       const double gap = order[k].first - order[k - 1].first;
-      if (gap > max_gap || (a.xyz() - b.xyz()).norm() > c.max_point_gap_m) {
+      const double limit = c.max_point_gap_m + c.point_gap_per_m * std::hypot(a.x, a.y);
+      if (gap > max_gap || (a.xyz() - b.xyz()).norm() > limit) {
         finish(cloud, std::move(seg), c, out);
         seg = ScanSegment{};
         seg.line = ring;

@@ -1,140 +1,226 @@
-// One tree per trunk stack: axis through the segment circles, base on the ground, DBH at 1.3 m.
+// One tree per stem: stacks on one axis joined (breaks), a cylinder fitted to the stem around
+// breast height (branches and twigs trimmed), the base on the ground and DBH at 1.3 m.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <optional>
-#include <unordered_map>
 
 #include <Eigen/Geometry>
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/forest/trunks.hpp"
+#include "ground_index.hpp"
 
 namespace fieldlidar::forest {
 namespace {
 
-// Ground points binned in 1 m cells for the base height near an axis.
-class GroundIndex {
- public:
-  GroundIndex(const PointCloud& cloud, std::span<const std::uint8_t> is_ground) {
-    for (std::size_t i = 0; i < is_ground.size(); ++i)
-      if (is_ground[i] && cloud.points[i].is_valid()) {
-        const auto& p = cloud.points[i];
-        cells_[key(cell(p.x), cell(p.y))].push_back(p.xyz().cast<double>());
+// Stacks of one stem: their axis from the segment centroids and every point index they hold.
+struct Stem {
+  Axis axis;
+  std::vector<std::uint32_t> points;
+  std::vector<std::size_t> segment_ids;
+  std::size_t segments = 0;
+  double z_low = 1e30, z_high = -1e30;
+};
+
+double horizontal_offset(const Axis& a, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d on = a.point + a.direction * ((p.z() - a.point.z()) / a.direction.z());
+  return (on - p).head<2>().norm();
+}
+
+// Stacks in order of size; one whose centroids all lie on a bigger stem's axis joins that stem.
+std::vector<Stem> join_stacks(std::span<const ScanSegment> segments,
+                              const std::vector<std::vector<std::size_t>>& stacks,
+                              const TreeConfig& c) {
+  std::vector<std::size_t> order(stacks.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](auto a, auto b) { return stacks[a].size() > stacks[b].size(); });
+  std::vector<Stem> stems;
+  std::vector<Eigen::Vector3d> centroids;
+  for (auto k : order) {
+    centroids.clear();
+    for (auto s : stacks[k]) centroids.push_back(segments[s].centroid);
+    Stem* host = nullptr;
+    for (auto& st : stems) {
+      bool on = true;
+      for (const auto& p : centroids) on &= horizontal_offset(st.axis, p) <= c.join_distance_m;
+      if (on) {
+        host = &st;
+        break;
       }
+    }
+    if (!host) {
+      Stem st;
+      st.axis = fit_axis(centroids, 0.05);
+      if (!st.axis.ok) continue;
+      stems.push_back(std::move(st));
+      host = &stems.back();
+    }
+    for (auto s : stacks[k]) {
+      host->points.insert(host->points.end(), segments[s].indices.begin(),
+                          segments[s].indices.end());
+      host->z_low = std::min(host->z_low, segments[s].centroid.z());
+      host->z_high = std::max(host->z_high, segments[s].centroid.z());
+    }
+    host->segments += stacks[k].size();
+    host->segment_ids.insert(host->segment_ids.end(), stacks[k].begin(), stacks[k].end());
   }
-  /// Median z of the ground points within radius of xy; NaN when there is none.
-  double height_near(const Eigen::Vector2d& xy, double radius) const {
-    std::vector<double> z;
-    const int r = int(std::ceil(radius));
-    for (int dx = -r; dx <= r; ++dx)
-      for (int dy = -r; dy <= r; ++dy) {
-        auto it = cells_.find(key(cell(xy.x()) + dx, cell(xy.y()) + dy));
-        if (it == cells_.end()) continue;
-        for (const auto& p : it->second)
-          if ((p.head<2>() - xy).norm() <= radius) z.push_back(p.z());
-      }
-    if (z.empty()) return std::numeric_limits<double>::quiet_NaN();
-    std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
-    return z[z.size() / 2];
+  return stems;
+}
+
+// Every return of a sweep by ring, in azimuth order: what lies just beside a stem's edge.
+class RingIndex {
+ public:
+  explicit RingIndex(const PointCloud& cloud) {
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const auto& p = cloud.points[i];
+      if (!p.is_valid() || p.ring == Point::kNoRing) continue;
+      if (p.ring >= rings_.size()) rings_.resize(p.ring + 1);
+      rings_[p.ring].emplace_back(std::atan2(p.y, p.x), std::hypot(p.x, p.y));
+    }
+    for (auto& r : rings_) std::sort(r.begin(), r.end());
+  }
+  /// Range of the nearest return beyond azimuth `az` (direction +1 or -1) within `window` rad;
+  /// +inf when there is none (a free line of sight).
+  double beside(int ring, double az, int direction, double window) const {
+    if (ring < 0 || std::size_t(ring) >= rings_.size()) return 1e30;
+    const auto& r = rings_[ring];
+    const double eps = 1e-7;
+    if (direction > 0) {
+      auto it = std::upper_bound(r.begin(), r.end(), std::make_pair(az + eps, 1e30));
+      return (it != r.end() && it->first <= az + window) ? it->second : 1e30;
+    }
+    auto it = std::lower_bound(r.begin(), r.end(), std::make_pair(az - eps, -1e30));
+    if (it == r.begin()) return 1e30;
+    --it;
+    return it->first >= az - window ? it->second : 1e30;
   }
 
  private:
-  static std::int64_t cell(double v) { return std::int64_t(std::floor(v)); }
-  static std::int64_t key(std::int64_t x, std::int64_t y) { return (x << 32) ^ (y & 0xffffffff); }
-  std::unordered_map<std::int64_t, std::vector<Eigen::Vector3d>> cells_;
+  std::vector<std::vector<std::pair<double, double>>> rings_;
 };
 
-struct Candidate {
-  Tree tree;
-  std::size_t dbh_points = 0;
-};
-
-std::optional<Candidate> tree_from_stack(const PointCloud& cloud,
-                                         std::span<const ScanSegment> segments,
-                                         const std::vector<std::size_t>& stack,
-                                         const GroundIndex& ground, const TreeConfig& c) {
-  // Circle per segment; its centre at the segment's height.
-  std::vector<Eigen::Vector3d> centres;
-  std::vector<Eigen::Vector2d> xy;
-  for (auto s : stack) {
-    xy.clear();
-    for (auto i : segments[s].indices) xy.emplace_back(cloud.points[i].x, cloud.points[i].y);
-    const Circle circle = fit_circle(xy, c.min_radius_m, c.max_radius_m);
-    if (circle.ok && circle.residual_m <= c.max_residual_m)
-      centres.emplace_back(circle.center.x(), circle.center.y(), segments[s].centroid.z());
+// Radius from the stem's silhouette seen from the sensor (at the origin of a sweep): on each scan
+// line, the angle between its outermost returns plus one azimuth step, and r = D sin(angle / 2)
+// at the axis distance D. Range noise does not enter it as it does a fit to a partial arc. An
+// edge whose neighbouring return is nearer is hidden by an occluder; a line with one hidden edge
+// uses its other half about the axis bearing, one with two is skipped. Median over the lines;
+// NaN with fewer than min_silhouette_lines.
+double silhouette_radius(const PointCloud& cloud, std::span<const ScanSegment> segments,
+                         const RingIndex& rings, const Stem& stem, const Cylinder& cyl,
+                         double base_z, const TreeConfig& c) {
+  const Eigen::Vector3d a = cyl.direction;
+  struct Line {
+    double lo, hi, bearing, dist, range;
+    int ring;
+  };
+  std::vector<Line> lines;
+  std::vector<double> gaps;
+  for (auto s : stem.segment_ids) {
+    const auto& seg = segments[s];
+    const double h = seg.centroid.z() - base_z;
+    if (std::abs(h - c.dbh_height_m) > c.dbh_window_m || seg.indices.size() < 2) continue;
+    const Eigen::Vector3d on = cyl.point + a * ((seg.centroid.z() - cyl.point.z()) / a.z());
+    Line l{1e30, -1e30, std::atan2(on.y(), on.x()), on.head<2>().norm(), 1e30, seg.line};
+    std::vector<double> az;
+    for (auto i : seg.indices) {
+      const auto& p = cloud.points[i];
+      az.push_back(std::remainder(std::atan2(p.y, p.x) - l.bearing, 2 * std::numbers::pi));
+      l.range = std::min(l.range, double(std::hypot(p.x, p.y)));
+    }
+    std::sort(az.begin(), az.end());
+    for (std::size_t k = 1; k < az.size(); ++k) gaps.push_back(az[k] - az[k - 1]);
+    l.lo = az.front();
+    l.hi = az.back();
+    lines.push_back(l);
   }
-  if (centres.size() < 2) return std::nullopt;
-  const Axis axis = fit_axis(centres, 0.05);
-  if (!axis.ok || axis.inliers.size() < 2) return std::nullopt;
-  const Eigen::Vector3d a = axis.direction;
+  if (lines.size() < c.min_silhouette_lines || gaps.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+  const double step = gaps[gaps.size() / 2];
+  std::vector<double> r;
+  for (const auto& l : lines) {
+    const double window = 2.5 * step, nearer = l.range - c.occluder_gap_m;
+    const bool lo_hidden = rings.beside(l.ring, l.bearing + l.lo, -1, window) < nearer;
+    const bool hi_hidden = rings.beside(l.ring, l.bearing + l.hi, +1, window) < nearer;
+    if (lo_hidden && hi_hidden) continue;
+    double half = (l.hi - l.lo + step) / 2;
+    if (lo_hidden) half = std::abs(l.hi) + step / 2;
+    if (hi_hidden) half = std::abs(l.lo) + step / 2;
+    r.push_back(l.dist * std::sin(half));
+  }
+  if (r.size() < c.min_silhouette_lines) return std::numeric_limits<double>::quiet_NaN();
+  std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+  return r[r.size() / 2];
+}
+
+std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const ScanSegment> segments,
+                                   const RingIndex* rings, const Stem& stem,
+                                   const GroundIndex& ground, const TreeConfig& c) {
+  const Axis& axis = stem.axis;
+  Eigen::Vector3d a = axis.direction;
   if (std::acos(std::clamp(a.z(), -1.0, 1.0)) * 180.0 / std::numbers::pi > c.max_tilt_deg)
     return std::nullopt;
-  auto axis_at_z = [&](double z) -> Eigen::Vector3d {
-    return axis.point + a * ((z - axis.point.z()) / a.z());
+  auto axis_at_z = [&](const Eigen::Vector3d& p0, const Eigen::Vector3d& d, double z) {
+    return Eigen::Vector3d(p0 + d * ((z - p0.z()) / d.z()));
   };
-  double z_low = 1e30;
-  for (auto s : stack) z_low = std::min(z_low, segments[s].centroid.z());
-  Candidate cand;
-  Tree& t = cand.tree;
-  double zg = ground.height_near(axis_at_z(z_low).head<2>(), c.ground_radius_m);
+  Tree t;
+  double zg = ground.height_near(axis_at_z(axis.point, a, stem.z_low).head<2>(), c.ground_radius_m);
   t.ground_found = std::isfinite(zg);
   if (!t.ground_found) {
     zg = 1e30;
-    for (auto s : stack)
-      for (auto i : segments[s].indices) zg = std::min(zg, double(cloud.points[i].z));
+    for (auto i : stem.points) zg = std::min(zg, double(cloud.points[i].z));
   }
-  if (z_low - zg > c.max_base_height_m) return std::nullopt;
-  t.base_m = axis_at_z(zg);
-  t.axis = a;
-  const Eigen::Vector3d e1 = a.unitOrthogonal(), e2 = a.cross(e1);
-  // Cross-section around breast height, in the plane perpendicular to the axis.
-  std::vector<Eigen::Vector2d> ring_all, ring_dbh;
-  double h_min = 1e30, h_max = -1e30;
-  std::size_t lines_dbh = 0;
-  for (auto s : stack) {
-    bool in_window = false;
-    for (auto i : segments[s].indices) {
-      const Eigen::Vector3d v = cloud.points[i].xyz().cast<double>() - t.base_m;
-      const double along = v.dot(a);
-      const double h = along * a.z();
-      h_min = std::min(h_min, h);
-      h_max = std::max(h_max, h);
-      const Eigen::Vector2d q(v.dot(e1), v.dot(e2));
-      ring_all.push_back(q);
-      if (std::abs(h - c.dbh_height_m) <= c.dbh_window_m) {
-        ring_dbh.push_back(q);
-        in_window = true;
-      }
+  if (stem.z_low - zg > c.max_base_height_m) return std::nullopt;  // a fork or crown branch
+  // Stem points within the window around breast height, along the stacked axis.
+  const Eigen::Vector3d base0 = axis_at_z(axis.point, a, zg);
+  std::vector<Eigen::Vector3d> band;
+  double h_min = 1e30, h_max = -1e30, band_lo = 1e30, band_hi = -1e30;
+  for (auto i : stem.points) {
+    const Eigen::Vector3d p = cloud.points[i].xyz().cast<double>();
+    const double h = (p - base0).dot(a) * a.z();
+    h_min = std::min(h_min, h);
+    h_max = std::max(h_max, h);
+    if (std::abs(h - c.dbh_height_m) <= c.dbh_window_m) {
+      band.push_back(p);
+      band_lo = std::min(band_lo, h);
+      band_hi = std::max(band_hi, h);
     }
-    lines_dbh += in_window;
   }
-  std::vector<Eigen::Vector2d> ring =
-      (ring_dbh.size() >= 6 && lines_dbh >= 1) ? ring_dbh : ring_all;
-  Circle circle = fit_circle(ring, c.min_radius_m, c.max_radius_m, 20);
-  // Trim returns off the circle (twigs, mixed edge returns) and refit.
-  for (int it = 0; it < 3 && circle.ok; ++it) {
-    std::vector<Eigen::Vector2d> kept;
-    const double thr = std::max(0.01, 2.5 * circle.residual_m);
-    for (const auto& q : ring)
-      if (std::abs((q - circle.center).norm() - circle.radius_m) <= thr) kept.push_back(q);
-    if (kept.size() == ring.size() || kept.size() < 6) break;
-    ring = std::move(kept);
-    circle = fit_circle(ring, c.min_radius_m, c.max_radius_m, 20);
+  if (band.size() < c.min_stem_points || h_max - h_min < c.min_extent_seen_m) return std::nullopt;
+  CylinderFitConfig fc = c.cylinder;
+  fc.min_radius_m = c.min_radius_m;
+  fc.max_radius_m = c.max_radius_m;
+  fc.fit_direction = fc.fit_direction && band_hi - band_lo >= c.min_fit_span_m;
+  const Cylinder cyl = fit_cylinder(band, axis_at_z(axis.point, a, zg + c.dbh_height_m), a, fc);
+  const double max_residual = cloud.fields.ring ? c.max_residual_m : c.plot_max_residual_m;
+  if (!cyl.ok || cyl.residual_m > max_residual) return std::nullopt;
+  a = cyl.direction;
+  if (std::acos(std::clamp(a.z(), -1.0, 1.0)) * 180.0 / std::numbers::pi > c.max_tilt_deg)
+    return std::nullopt;
+  // Arc seen: kept points around the axis, in the plane across it.
+  const Eigen::Vector3d e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+  std::vector<Eigen::Vector2d> ring;
+  for (auto i : cyl.inliers) {
+    const Eigen::Vector3d v = band[i] - cyl.point;
+    ring.emplace_back(v.dot(e1), v.dot(e2));
   }
-  if (!circle.ok || circle.residual_m > c.max_residual_m) return std::nullopt;
-  t.arc_deg = arc_coverage_deg(ring, circle.center);
+  t.arc_deg = arc_coverage_deg(ring, Eigen::Vector2d::Zero());
   if (t.arc_deg < c.min_arc_deg) return std::nullopt;
-  if (h_max - h_min < c.min_extent_seen_m) return std::nullopt;
-  t.base_m += e1 * circle.center.x() + e2 * circle.center.y();
-  t.dbh_m = 2 * circle.radius_m;
-  t.residual_m = circle.residual_m;
+  t.axis = a;
+  t.base_m = axis_at_z(cyl.point, a, zg);
+  t.dbh_m = 2 * cyl.radius_m;
+  if (rings) {
+    const double r = silhouette_radius(cloud, segments, *rings, stem, cyl, zg, c);
+    if (std::isfinite(r)) t.dbh_m = 2 * std::clamp(r, c.min_radius_m, c.max_radius_m);
+  }
+  t.residual_m = cyl.residual_m;
   t.z_min_seen_m = h_min;
   t.z_max_seen_m = h_max;
-  t.observations = stack.size();
-  cand.dbh_points = ring.size();
-  return cand;
+  t.observations = stem.segments;
+  return t;
 }
 
 }  // namespace
@@ -152,20 +238,23 @@ TreeResult extract_trees(const PointCloud& cloud, std::span<const std::uint8_t> 
   const auto stacks = stack_segments(segments, config.stacks);
   result.stacks = stacks.size();
   const GroundIndex ground(cloud, is_ground);
-  std::vector<Candidate> cands;
-  for (const auto& st : stacks)
-    if (auto c = tree_from_stack(cloud, segments, st, ground, config)) cands.push_back(*c);
-  // Stacks of one stem (split by an occluder or a gap): the best supported one stays.
+  std::optional<RingIndex> rings;
+  if (config.silhouette_dbh && cloud.fields.ring && !stacks.empty()) rings.emplace(cloud);
+  std::vector<std::pair<Tree, std::size_t>> cands;
+  for (const auto& stem : join_stacks(segments, stacks, config))
+    if (auto t = tree_from_stem(cloud, segments, rings ? &*rings : nullptr, stem, ground, config))
+      cands.emplace_back(*t, stem.points.size());
+  // Stems left apart (split by an occluder): the best supported one stays.
   std::sort(cands.begin(), cands.end(),
-            [](const auto& a, const auto& b) { return a.dbh_points > b.dbh_points; });
-  for (const auto& c : cands) {
-    const Eigen::Vector3d p = c.tree.at_height(config.dbh_height_m);
+            [](const auto& a, const auto& b) { return a.second > b.second; });
+  for (const auto& [tree, n] : cands) {
+    const Eigen::Vector3d p = tree.at_height(config.dbh_height_m);
     bool dup = false;
     for (const auto& t : result.trees)
       dup |= (t.at_height(config.dbh_height_m) - p).head<2>().norm() <
-             config.merge_distance_m + 0.5 * (t.dbh_m + c.tree.dbh_m) / 2;
+             config.merge_distance_m + 0.5 * (t.dbh_m + tree.dbh_m) / 2;
     if (dup) continue;
-    result.trees.push_back(c.tree);
+    result.trees.push_back(tree);
     result.trees.back().id = std::uint32_t(result.trees.size());
   }
   return result;

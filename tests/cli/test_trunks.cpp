@@ -63,5 +63,32 @@ TEST(CliTrunks, PinePlotTreesWithPlausibleDiametersAndNoOverwrite) {
   EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
 }
 
+// A short simulated forest drive: poses of every scan, the trunk map and its scores; the same
+// frames without rings (the KITTI .bin copies) are refused with the frame named.
+TEST(CliTrunks, SimulatedDriveTracksPosesAndMapsTrunks) {
+  const auto dir = temp_dir("cli_trunks_drive");
+  auto r = run_cli("simulate --scene forest --seed 3 --frames 30 --out " + quoted(dir / "sim"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto out = dir / "map";
+  r = run_cli("trunks " + quoted(dir / "sim") + " --out " + quoted(out) + " --truth " +
+              quoted(dir / "sim" / "trees.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("30 scans (29 tracked on trunks)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("truth: "), std::string::npos) << r.output;
+  std::ifstream poses(out / "poses.txt");
+  int lines = 0;
+  for (std::string l; std::getline(poses, l);) ++lines;
+  EXPECT_EQ(lines, 30);
+  EXPECT_TRUE(std::filesystem::exists(out / "poses_tum.txt"));
+  std::string header;
+  const auto rows = csv_rows(out / "trees.csv", header);
+  EXPECT_GE(rows.size(), 10u);
+  for (const auto& t : rows) EXPECT_GE(t[11], 5.0);  // seen in five scans or more
+  EXPECT_GT(std::filesystem::file_size(out / "trees.png"), 1000u);
+  r = run_cli("trunks " + quoted(dir / "sim" / "velodyne") + " --out " + quoted(dir / "bin"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("frame 0 has no ring field"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace fieldlidar::test

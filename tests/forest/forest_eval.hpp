@@ -37,7 +37,7 @@ struct Scores {
 /// are not scored; one matching an unscored (occluded) tree is neither right nor wrong.
 inline void score_frame(const sim::Scene& scene, const sim::SimFrame& frame,
                         const std::vector<Tree>& trees, Scores& s, double range_m = 15.0,
-                        double match_m = 0.5, int min_hits = 20) {
+                        double match_m = 0.3, int min_hits = 20) {
   std::map<std::uint16_t, int> hits;
   for (auto l : frame.cloud.labels)
     if (label_class(l) == LabelClass::kTrunk) ++hits[label_instance(l)];

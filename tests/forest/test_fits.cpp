@@ -1,11 +1,13 @@
 // Circle and axis fits on partial arcs with noise and outliers.
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/forest/tracking.hpp"
 #include "fieldlidar/forest/trunks.hpp"
 
 namespace fieldlidar::forest {
@@ -61,6 +63,18 @@ TEST(ForestFits, EmptyAndMismatchedInput) {
   one.push_back(Point{1, 1, 1});
   std::vector<std::uint8_t> flags(3, 0);
   EXPECT_THROW(extract_trees(one, flags), Error);
+}
+
+TEST(ForestFits, NanPointsAndNoGroundMakeNoTree) {
+  PointCloud cloud;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (int i = 0; i < 500; ++i) cloud.push_back(Point{nan, nan, nan});
+  for (int i = 0; i < 200; ++i)  // a flat patch, no ground flags: no stem in it
+    cloud.push_back(Point{float(i % 20) * 0.1f, float(i / 20) * 0.1f, 0.0f});
+  const auto r = extract_trees(cloud, std::vector<std::uint8_t>(cloud.size(), 0));
+  EXPECT_TRUE(r.trees.empty());
+  TrunkTracker tracker;
+  EXPECT_FALSE(tracker.track(cloud, std::vector<std::uint8_t>(cloud.size(), 0)).tracked);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // Trunks and DBH on simulated forest frames (VLP-16, OS1-64) against the scene's TreeTruth.
 // Seed 1 is the one the defaults were tuned on; seed 2 is held out. Bounds sit a margin below
-// the measured figures (printed), which are far from the issue's targets for DBH (2 cm RMSE) and
-// for the OS1-64's recall.
+// the measured figures (printed). A detection matches within 0.3 m at 1.3 m; a tree is scored
+// when its stem at 1.3 m is within 15 m and the frame holds >= 20 of its returns.
 #include <gtest/gtest.h>
 
 #include "forest_eval.hpp"
@@ -12,30 +12,61 @@ TEST(ForestSim, Vlp16TunedSeed) {
   const auto s = run_frames(1, SensorModel::vlp16(), 4);
   s.print("VLP-16 seed 1 (tuned), 4 frames");
   EXPECT_GT(s.truth, 40);
-  EXPECT_GE(s.recall(), 0.85);
-  EXPECT_GE(s.precision(), 0.95);
-  EXPECT_LE(s.pos_rmse(), 0.09);
-  EXPECT_LE(s.dbh_rmse(), 0.12);
+  EXPECT_GE(s.recall(), 0.95);  // measured 0.979
+  EXPECT_GE(s.precision(), 0.97);
+  EXPECT_LE(s.pos_rmse(), 0.05);
+  EXPECT_LE(s.dbh_rmse(), 0.032);  // 0.028
 }
 
 TEST(ForestSim, Vlp16HeldOutSeed) {
   const auto s = run_frames(2, SensorModel::vlp16(), 10);
   s.print("VLP-16 seed 2 (held out), 10 frames");
   EXPECT_GT(s.truth, 60);
-  EXPECT_GE(s.recall(), 0.80);
-  EXPECT_GE(s.precision(), 0.90);
-  EXPECT_LE(s.pos_rmse(), 0.10);
-  EXPECT_LE(s.dbh_rmse(), 0.12);
+  EXPECT_GE(s.recall(), 0.93);     // measured 0.955
+  EXPECT_GE(s.precision(), 0.95);  // 0.977
+  EXPECT_LE(s.pos_rmse(), 0.05);   // 0.044
+  EXPECT_LE(s.dbh_rmse(), 0.020);  // 0.018
+}
+
+TEST(ForestSim, Vlp16SecondHeldOutSeed) {
+  const auto s = run_frames(3, SensorModel::vlp16(), 10);
+  s.print("VLP-16 seed 3 (held out), 10 frames");
+  EXPECT_GT(s.truth, 60);
+  EXPECT_GE(s.recall(), 0.96);     // measured 0.989
+  EXPECT_GE(s.precision(), 0.97);  // 0.995
+  EXPECT_LE(s.pos_rmse(), 0.05);   // 0.042
+  EXPECT_LE(s.dbh_rmse(), 0.020);  // 0.018
 }
 
 TEST(ForestSim, Os1HeldOutSeed) {
   const auto s = run_frames(2, SensorModel::os1_64(), 10);
   s.print("OS1-64 seed 2 (held out), 10 frames");
   EXPECT_GT(s.truth, 60);
-  EXPECT_GE(s.recall(), 0.45);  // measured 0.511: far below the VLP-16, not understood yet
-  EXPECT_GE(s.precision(), 0.90);
-  EXPECT_LE(s.pos_rmse(), 0.10);
-  EXPECT_LE(s.dbh_rmse(), 0.12);
+  EXPECT_GE(s.recall(), 0.86);     // measured 0.887, short of 0.90: small stems at 10-15 m
+  EXPECT_GE(s.precision(), 0.95);  // 1.000
+  EXPECT_LE(s.pos_rmse(), 0.05);   // 0.046
+  EXPECT_LE(s.dbh_rmse(), 0.036);  // 0.033, short of 0.02: 1024 columns leave 2 returns a line
+                                   // on a 10-15 cm stem at 12 m
+}
+
+}  // namespace fieldlidar::forest::test
+
+namespace fieldlidar::forest::test {
+
+// Reported, not a target of the issue: the nodding 2D scanner (60 planes) and the OS1-64 on a
+// second held-out seed.
+TEST(ForestSim, Tilting2dAndOs1SecondSeedReported) {
+  const auto t = run_frames(2, SensorModel::tilting_2d(), 10);
+  t.print("tilting 2D seed 2 (held out), 10 frames");
+  EXPECT_GE(t.recall(), 0.85);     // measured 0.875
+  EXPECT_GE(t.precision(), 0.95);  // 0.982
+  EXPECT_LE(t.dbh_rmse(), 0.04);   // 0.034
+  const auto o = run_frames(3, SensorModel::os1_64(), 10);
+  o.print("OS1-64 seed 3 (held out), 10 frames");
+  EXPECT_GE(o.recall(), 0.93);     // measured 0.952
+  EXPECT_GE(o.precision(), 0.97);  // 1.000
+  EXPECT_LE(o.dbh_rmse(), 0.027);  // 0.024
+  EXPECT_LE(o.pos_rmse(), 0.04);   // 0.030
 }
 
 }  // namespace fieldlidar::forest::test

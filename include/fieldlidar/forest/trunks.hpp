@@ -15,9 +15,10 @@ namespace fieldlidar::forest {
 /// Step 1: cutting scan lines into segments.
 struct ScanSegmentConfig {
   double max_azimuth_gap_deg = 1.0;  ///< a wider gap between neighbours means a missed return
-  double max_point_gap_m = 0.12;     ///< neighbours farther apart (3D) are cut apart
+  double max_point_gap_m = 0.15;     ///< neighbours farther apart (3D) are cut apart, plus
+  double point_gap_per_m = 0.01;     ///< this much per metre of range (range noise, spacing)
   double max_radius_m = 0.6;         ///< U: segments wider than 2U (a half cylinder) are dropped
-  std::size_t min_points = 3;
+  std::size_t min_points = 2;
   double min_range_m = 0.5;   ///< returns nearer than this (the robot) are ignored
   double max_range_m = 40.0;  ///< and farther than this
   /// Clouds with no ring field: horizontal slices of this thickness replace the scan lines; a
@@ -42,7 +43,7 @@ std::vector<ScanSegment> segment_scan_lines(const PointCloud& cloud,
 /// Step 2: stacking segments into trunk candidates.
 struct StackConfig {
   double max_offset_m = 0.25;  ///< horizontal distance of centroids on neighbouring lines
-  int max_line_gap = 3;        ///< lines skipped between two segments of one stack (occlusion)
+  int max_line_gap = 8;        ///< lines skipped between two segments of one stack (occlusion)
   double max_step_m = 1.5;     ///< vertical gap between stacked centroids
   std::size_t min_segments = 3;
   double min_extent_m = 0.4;  ///< vertical extent of the centroids
@@ -80,20 +81,57 @@ struct Axis {
 /// farther than max(reject_m, 2.5 sigma) from it and refitting. Needs two centres.
 Axis fit_axis(std::span<const Eigen::Vector3d> centres, double reject_m = 0.05, int iterations = 5);
 
+/// Step 3 on a whole stem: a straight cylinder through its points.
+struct CylinderFitConfig {
+  double min_radius_m = 0.03;
+  double max_radius_m = 0.6;
+  bool fit_direction = true;  ///< false: keep the initial axis direction (short stems)
+  int trim_rounds = 3;        ///< refits after dropping points off the surface
+  double trim_sigmas = 2.5;   ///< points farther than this many RMS residuals are dropped
+  double min_trim_m = 0.02;   ///< but never those nearer than this
+  std::size_t min_points = 6;
+};
+
+struct Cylinder {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< a point on the axis
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();
+  double radius_m = 0.0;
+  double residual_m = 0.0;           ///< RMS distance of the kept points to the surface
+  std::vector<std::size_t> inliers;  ///< indices of the points kept
+  bool ok = false;
+};
+
+/// Gauss-Newton on the distance of each point to the surface, from an initial axis (any point on
+/// it, direction up); points off the surface are trimmed. Too few points give ok = false.
+Cylinder fit_cylinder(std::span<const Eigen::Vector3d> points, const Eigen::Vector3d& axis_point,
+                      const Eigen::Vector3d& axis_direction, const CylinderFitConfig& config = {});
+
 struct TreeConfig {
   ScanSegmentConfig segments;
   StackConfig stacks;
   double min_radius_m = 0.03;
   double max_radius_m = 0.6;
-  double max_tilt_deg = 30.0;      ///< axes leaning more than this are not trunks
-  double max_residual_m = 0.03;    ///< trees whose stem fit is worse are dropped
-  double min_arc_deg = 90.0;       ///< and those seen over a narrower arc
-  double min_extent_seen_m = 1.0;  ///< and those whose stem points span less height
-  double dbh_height_m = 1.3;       ///< above the ground
-  double dbh_window_m = 0.5;       ///< points within this (along the axis) of DBH height fit it
-  double max_base_height_m = 3.0;  ///< the lowest segment must be within this of the ground
-  double ground_radius_m = 1.5;    ///< ground points within this of the axis give its base
-  double merge_distance_m = 0.3;   ///< stacks whose axes pass this close at DBH are one tree
+  double max_tilt_deg = 30.0;         ///< axes leaning more than this are not trunks
+  double max_residual_m = 0.06;       ///< trees whose stem fit is worse are dropped (RMS, m)
+  double plot_max_residual_m = 0.03;  ///< the same for a plot cloud (no rings: TLS/MLS, mm noise)
+  double min_arc_deg = 60.0;          ///< and those seen over a narrower arc
+  double min_extent_seen_m = 1.0;     ///< and those whose stem points span less height
+  double dbh_height_m = 1.3;          ///< above the ground
+  double dbh_window_m = 1.0;        ///< stem points within this of DBH height (along the axis) fit
+                                    ///< the cylinder; low branches and twigs are trimmed
+  std::size_t min_stem_points = 8;  ///< fewer in the window: not a tree
+  double min_fit_span_m = 0.8;      ///< a shorter window span keeps the stacked axis direction
+  double max_base_height_m = 3.0;   ///< the lowest segment must be within this of the ground
+  double ground_radius_m = 1.5;     ///< ground points within this of the axis give its base
+  double merge_distance_m = 0.3;    ///< stacks whose axes pass this close at DBH are one tree
+  double join_distance_m = 0.15;    ///< a stack lying on another's axis (a break) joins it
+  CylinderFitConfig cylinder;       ///< radius bounds are taken from min/max_radius_m
+  /// A sweep (rings, sensor at the origin): DBH from the stem's silhouette (angle between the
+  /// outermost returns of each scan line, median over the lines near breast height), which range
+  /// noise does not bias as it does a fit to a partial arc. Plot files always use the fit.
+  bool silhouette_dbh = true;
+  std::size_t min_silhouette_lines = 2;
+  double occluder_gap_m = 0.3;  ///< a return beside a stem's edge this much nearer hides it
 };
 
 /// One tree: straight trunk from its base on the ground.

@@ -1,0 +1,116 @@
+// A straight cylinder through stem points: Gauss-Newton in the frame of an initial axis, with
+// returns far off the surface (twigs, branches, mixed edge returns) trimmed between rounds.
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+
+#include "fieldlidar/forest/trunks.hpp"
+
+namespace fieldlidar::forest {
+namespace {
+
+struct Local {
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();  // axis at local height 0
+  Eigen::Vector2d s = Eigen::Vector2d::Zero();  // axis slope per metre of local height
+  double r = 0.1;
+};
+
+// Gauss-Newton on |q_xy - c - s q_z| - r over the kept points; s held at 0 unless fit_slope.
+double solve(std::span<const Eigen::Vector3d> q, const std::vector<char>& keep, Local& m,
+             bool fit_slope, double min_r, double max_r) {
+  for (int it = 0; it < 15; ++it) {
+    Eigen::Matrix<double, 5, 5> H = Eigen::Matrix<double, 5, 5>::Zero();
+    Eigen::Matrix<double, 5, 1> g = Eigen::Matrix<double, 5, 1>::Zero();
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      if (!keep[i]) continue;
+      const Eigen::Vector2d w = q[i].head<2>() - m.c - m.s * q[i].z();
+      const double len = std::max(w.norm(), 1e-9);
+      const Eigen::Vector2d e = w / len;
+      Eigen::Matrix<double, 5, 1> J;
+      J << -e.x(), -e.y(), -e.x() * q[i].z(), -e.y() * q[i].z(), -1.0;
+      H += J * J.transpose();
+      g += J * (len - m.r);
+    }
+    H.diagonal().array() += 1e-9;
+    if (!fit_slope) {
+      H.block<2, 5>(2, 0).setZero();
+      H.block<5, 2>(0, 2).setZero();
+      H(2, 2) = H(3, 3) = 1.0;
+      g.segment<2>(2).setZero();
+    }
+    const Eigen::Matrix<double, 5, 1> step = H.ldlt().solve(-g);
+    if (!step.allFinite()) break;
+    m.c += step.head<2>();
+    m.s += step.segment<2>(2);
+    m.r = std::clamp(m.r + step(4), min_r, max_r);
+    if (step.norm() < 1e-6) break;
+  }
+  double ss = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < q.size(); ++i)
+    if (keep[i]) {
+      ss += std::pow((q[i].head<2>() - m.c - m.s * q[i].z()).norm() - m.r, 2);
+      ++n;
+    }
+  return n ? std::sqrt(ss / double(n)) : 0.0;
+}
+
+}  // namespace
+
+Cylinder fit_cylinder(std::span<const Eigen::Vector3d> points, const Eigen::Vector3d& axis_point,
+                      const Eigen::Vector3d& axis_direction, const CylinderFitConfig& config) {
+  Cylinder cyl;
+  if (points.size() < config.min_points) return cyl;
+  Eigen::Vector3d origin = axis_point;
+  Eigen::Vector3d dir = axis_direction.normalized();
+  std::vector<Eigen::Vector3d> q(points.size());
+  std::vector<char> keep(points.size(), 1);
+  Local m;
+  double rms = 0;
+  for (int round = 0; round < 2; ++round) {
+    const Eigen::Matrix3d R =
+        Eigen::Quaterniond::FromTwoVectors(dir, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    for (std::size_t i = 0; i < points.size(); ++i) q[i] = R * (points[i] - origin);
+    // Start: the bounded circle fit of the points projected along the axis.
+    std::vector<Eigen::Vector2d> xy;
+    for (std::size_t i = 0; i < q.size(); ++i)
+      if (keep[i]) xy.push_back(q[i].head<2>());
+    const Circle c0 = fit_circle(xy, config.min_radius_m, config.max_radius_m, 20);
+    if (!c0.ok) return cyl;
+    m = Local{c0.center, Eigen::Vector2d::Zero(), c0.radius_m};
+    for (int trim = 0; trim <= config.trim_rounds; ++trim) {
+      rms = solve(q, keep, m, config.fit_direction, config.min_radius_m, config.max_radius_m);
+      if (trim == config.trim_rounds) break;
+      const double thr = std::max(config.min_trim_m, config.trim_sigmas * rms);
+      std::size_t kept = 0;
+      bool changed = false;
+      for (std::size_t i = 0; i < q.size(); ++i) {
+        const bool k = std::abs((q[i].head<2>() - m.c - m.s * q[i].z()).norm() - m.r) <= thr;
+        changed |= (k != bool(keep[i]));
+        keep[i] = k;
+        kept += k;
+      }
+      if (kept < config.min_points) return cyl;
+      if (!changed) break;
+    }
+    // Back to the cloud's frame; a second round re-levels the local frame on the new axis.
+    const Eigen::Matrix3d Rt = R.transpose();
+    origin = origin + Rt * Eigen::Vector3d(m.c.x(), m.c.y(), 0.0);
+    dir = (Rt * Eigen::Vector3d(m.s.x(), m.s.y(), 1.0)).normalized();
+    if (!config.fit_direction) break;
+  }
+  if (dir.z() < 0) dir = -dir;
+  cyl.point = origin;
+  cyl.direction = dir;
+  cyl.radius_m = m.r;
+  cyl.residual_m = rms;
+  cyl.inliers.clear();
+  for (std::size_t i = 0; i < keep.size(); ++i)
+    if (keep[i]) cyl.inliers.push_back(i);
+  cyl.ok = origin.allFinite() && dir.allFinite() && std::isfinite(m.r);
+  return cyl;
+}
+
+}  // namespace fieldlidar::forest

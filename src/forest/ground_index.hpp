@@ -1,0 +1,26 @@
+#pragma once
+// Ground points binned in 1 m cells: the ground height near a stem's axis.
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/core/point_cloud.hpp"
+
+namespace fieldlidar::forest {
+
+class GroundIndex {
+ public:
+  GroundIndex(const PointCloud& cloud, std::span<const std::uint8_t> is_ground);
+  /// Median z of the ground points within radius of xy; NaN when there is none.
+  double height_near(const Eigen::Vector2d& xy, double radius) const;
+
+ private:
+  static std::int64_t cell(double v);
+  static std::int64_t key(std::int64_t x, std::int64_t y) { return (x << 32) ^ (y & 0xffffffff); }
+  std::unordered_map<std::int64_t, std::vector<Eigen::Vector3d>> cells_;
+};
+
+}  // namespace fieldlidar::forest
