@@ -1,0 +1,111 @@
+// The map fused over a whole simulated drive (VLP-16, true poses) scored per 0.5 m cell against
+// the terrain truth, and people walking across the route leaving no ghost obstacle.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "fieldlidar/sim/lidar_simulator.hpp"
+#include "fieldlidar/sim/motion.hpp"
+#include "fieldlidar/sim/scenes.hpp"
+#include "fieldlidar/terrain/terrain_map.hpp"
+#include "terrain_score.hpp"
+
+using namespace fieldlidar;
+using namespace fieldlidar::terrain;
+using terrain::test::Score;
+
+namespace {
+
+struct DriveResult {
+  Score score;
+  int ghost_cells = 0, walker_cells = 0;  ///< truth-passable cells a person walked over
+  double ms_per_scan = 0;
+};
+
+/// People crossing the route once (at x = 18 m and 36 m, while the robot comes near), then
+/// standing off the route.
+void add_crossing_walkers(sim::Scene& scene) {
+  const double y = scene.robot_route().front().y();
+  for (int i = 0; i < 2; ++i) {
+    sim::WalkerConfig w;
+    w.id = std::uint16_t(i + 1);
+    const double x = 18.0 + 18.0 * i;
+    w.path_m = {{x, y - 8.0}, {x + 1.0, y + 8.0}};
+    w.speed = {{0.0, 0.0}, {4.0 + 14.0 * i, 1.3}};
+    scene.add_walker(sim::Walker(w));
+  }
+}
+
+DriveResult drive(const FusionConfig& config, std::uint64_t seed, bool walkers, double every_s) {
+  sim::Scene scene = sim::make_terrain_scene({}, seed);
+  if (walkers) add_crossing_walkers(scene);
+  const Grid2D truth = scene.terrain_truth({.resolution_m = 0.5});
+  const sim::LidarSimulator lidar(scene, SensorModel::vlp16());
+  const auto motion = sim::drive_scene_route(scene, 60.0);
+  TerrainMap map(config);
+  std::vector<Eigen::Vector2d> path;
+  DriveResult r;
+  double ms = 0;
+  int n = 0;
+  for (double t = 0.5; t < 58.0; t += every_s, ++n) {
+    const Pose T = motion.T_world_lidar(t);
+    const sim::SimFrame frame = lidar.scan(t, T);
+    const auto t0 = std::chrono::steady_clock::now();
+    map.add_scan(frame.cloud, SensorModel::vlp16(), T);
+    ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    path.push_back(T.translation().head<2>());
+  }
+  r.ms_per_scan = ms / n;
+  const Grid2D global = map.global_map();
+  terrain::test::score(
+      global, truth,
+      [&](const Eigen::Vector2d& c) {
+        for (const auto& p : path)
+          if ((c - p).norm() < 15.0) return true;
+        return false;
+      },
+      r.score);
+  if (walkers) {
+    const auto& g = truth.geometry();
+    for (const auto& w : scene.walkers()) {
+      Eigen::Vector2d end, dir;
+      w.path_point(w.arc_length_at(1e9), end, dir);
+      const auto& a = w.config().path_m[0];
+      const auto& b = w.config().path_m[1];
+      for (int iy = 0; iy < g.height; ++iy)
+        for (int ix = 0; ix < g.width; ++ix) {
+          const Eigen::Vector2d c = g.cell_center(ix, iy);
+          const Eigen::Vector2d ab = b - a;
+          const double u = std::clamp((c - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+          if ((a + u * ab - c).norm() > 0.5 || (c - end).norm() < 1.5) continue;
+          if (truth.at("passable", ix, iy) < 0.5f) continue;
+          const auto v = global.value_at(layer::kObstacleProjected, c);
+          if (!v || std::isnan(*v)) continue;
+          ++r.walker_cells;
+          r.ghost_cells += *v > 0.5f;
+        }
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+TEST(TerrainFusion, WholeDriveAgainstTruth) {
+  for (std::uint64_t seed : {21u, 22u}) {
+    const DriveResult r = drive({}, seed, false, 0.5);
+    terrain::test::print(("fused seed " + std::to_string(seed)).c_str(), r.score);
+    std::printf("  %.2f ms per scan\n", r.ms_per_scan);
+    EXPECT_GT(r.score.impassable_recall(), 0.97);
+    EXPECT_GT(r.score.passable_precision(), 0.97);
+  }
+}
+
+TEST(TerrainFusion, WalkersLeaveNoGhostObstacle) {
+  const DriveResult r = drive({}, 21, true, 0.5);
+  std::printf("ghost cells %d of %d walked-over cells known\n", r.ghost_cells, r.walker_cells);
+  EXPECT_GT(r.walker_cells, 20);
+  EXPECT_EQ(r.ghost_cells, 0);
+}
