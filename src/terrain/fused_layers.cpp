@@ -3,6 +3,7 @@
 /// plane, the obstacle evidence, then tau.
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 
@@ -30,6 +31,35 @@ Eigen::Vector3d offset(double cell_m, int dx, int dy, float z_ref_to, float z_re
   return {dx * cell_m, dy * cell_m, double(z_ref_from) - double(z_ref_to)};
 }
 
+/// The steepest rise between the cell's mean ground return and a neighbour's (deg): a wall, a
+/// pit's rim or a ditch's edge sharper than the voxel plane shows.
+double edge_slope_deg(const CellStore& store, int ix, int iy, const FusionConfig& config) {
+  const FusedCell& cell = *store.find(ix, iy);
+  const double cm = config.layers.cell_m;
+  const Eigen::Vector3d mean = cell.ground.mean();
+  double steepest = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const FusedCell* q = store.find(ix + dx, iy + dy);
+      if ((dx == 0 && dy == 0) || !q || q->ground.n < config.min_ground_points) continue;
+      const Eigen::Vector3d d =
+          q->ground.mean() + offset(cm, dx, dy, cell.z_ref, q->z_ref) - mean;
+      const double run = std::max(0.25 * cm, d.head<2>().norm());
+      steepest = std::max(steepest, std::atan(std::abs(d.z()) / run) / kDeg);
+    }
+  return steepest;
+}
+
+/// Every cell of the voxel window holds ground returns of its own or obstacle evidence.
+bool window_seen(const CellStore& store, int ix, int iy, int half, const FusionConfig& config) {
+  for (int dy = -half; dy <= half; ++dy)
+    for (int dx = -half; dx <= half; ++dx) {
+      const FusedCell* q = store.find(ix + dx, iy + dy);
+      if (!q || (q->ground.n < config.min_ground_points && q->log_odds <= 0.0f)) return false;
+    }
+  return true;
+}
+
 }  // namespace
 
 void derive_cell(CellStore& store, int ix, int iy, const FusionConfig& config) {
@@ -38,7 +68,13 @@ void derive_cell(CellStore& store, int ix, int iy, const FusionConfig& config) {
   const TraversabilityConfig& c = config.layers;
   auto& L = cell->layers;
   L.fill(kNaN);
-  const bool obstacle = cell->log_odds > 0.0f;
+  const bool own_obstacle = cell->log_odds > 0.0f;
+  bool obstacle = own_obstacle;
+  if (config.obstacle_halo)  // an obstacle's rim: its 4 neighbours block too
+    for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+      const FusedCell* q = store.find(ix + dx, iy + dy);
+      obstacle = obstacle || (q && q->log_odds > 0.0f);
+    }
   const bool ground_known = cell->ground.n >= config.min_ground_points;
   const int half = int(std::lround(voxel_side_m(c) / c.cell_m)) / 2;
 
@@ -64,7 +100,9 @@ void derive_cell(CellStore& store, int ix, int iy, const FusionConfig& config) {
   const bool own_plane = cell->ground.n >= config.min_own_plane_points;
   const Eigen::Vector3d normal = own_plane ? plane_normal(cell->ground) : window_normal;
   const double rho = slope_deg(normal);
-  const bool too_steep = std::max(rho, slope_deg(window_normal)) > c.robot.max_slope_deg;
+  const bool too_steep =
+      std::max({rho, slope_deg(window_normal), edge_slope_deg(store, ix, iy, config)}) >
+      c.robot.max_slope_deg - config.slope_margin_deg;
 
   // Step over the window about the window's plane; roughness of the cell's own returns.
   double lo = 0, hi = 0, rough = 0;
@@ -96,9 +134,11 @@ void derive_cell(CellStore& store, int ix, int iy, const FusionConfig& config) {
   L[kRoughSum] = float(rough * cell->ground.n);
   L[kStep] = float(step);
   L[kObst2d] = too_steep ? 1.0f : 0.0f;
-  L[kProj] = obstacle ? 1.0f : 0.0f;
+  L[kProj] = own_obstacle ? 1.0f : 0.0f;
   L[kElev] = float(plane_z + cell->z_ref);
   const bool blocked = too_steep || step > c.robot.max_step_m || obstacle;
+  if (!blocked && config.passable_needs_full_window && !window_seen(store, ix, iy, half, config))
+    return;  // part of the robot's footprint unseen (a shadow: behind a rock, inside a pit)
   L[kImpass] = blocked ? 1.0f : 0.0f;
   L[kTau] = blocked ? 0.0f
                     : float(std::clamp(1.0 - c.weight_slope * rho / c.robot.max_slope_deg -

@@ -148,9 +148,19 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
     ScanCell& s = local_of(p);
     double base = s.low_ground;
     if (!std::isfinite(base)) base = s.cell->layers[detail::kElev];
+    if (!std::isfinite(base)) {  // the lowest ground this scan saw next to the cell
+      const int x = cell_index(p.x(), cm) - lo.x(), y = cell_index(p.y(), cm) - lo.y();
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (x + dx >= 0 && y + dy >= 0 && x + dx < w && y + dy < h)
+            base = std::fmin(base, local[std::size_t(y + dy) * w + x + dx].low_ground);
+    }
     if (!std::isfinite(base)) continue;
     const double above = p.z() - base;
-    if (above >= c.robot.min_obstacle_height_m && above <= c.robot.clearance_m) ++s.raised;
+    // Up into the robot's body, or down a pit's wall beyond the step it can take.
+    if ((above >= c.robot.min_obstacle_height_m && above <= c.robot.clearance_m) ||
+        (f.pit_evidence && above < -c.robot.max_step_m))
+      ++s.raised;
   }
   // Evidence per cell, then the layers of the touched cells and of every cell whose window
   // holds one.

@@ -14,8 +14,8 @@ namespace fieldlidar::terrain::test {
 struct Score {
   int tp = 0, fp = 0, fn = 0, tn = 0;
   int known = 0, truth_cells = 0;
-  double slope_sq = 0;
-  int slope_n = 0;
+  double slope_sq = 0, agreed_sq = 0;
+  int slope_n = 0, agreed_n = 0;
   double impassable_recall() const { return tp / double(std::max(1, tp + fn)); }
   double impassable_precision() const { return tp / double(std::max(1, tp + fp)); }
   double passable_precision() const { return tn / double(std::max(1, tn + fn)); }
@@ -27,6 +27,8 @@ struct Score {
   double accuracy() const { return (tp + tn) / double(std::max(1, known)); }
   double coverage() const { return known / double(std::max(1, truth_cells)); }
   double slope_rmse() const { return std::sqrt(slope_sq / std::max(1, slope_n)); }
+  /// On the cells both the truth and the map call passable.
+  double slope_rmse_agreed() const { return std::sqrt(agreed_sq / std::max(1, agreed_n)); }
 };
 
 /// Adds the truth cells for which `keep(centre)` holds to the score.
@@ -48,8 +50,10 @@ inline void score(const Grid2D& map, const Grid2D& truth,
       s.tn += !ours && !theirs;
       const float sl = *map.value_at(layer::kSlopeDeg, c);
       if (!theirs && std::isfinite(sl)) {
-        s.slope_sq += std::pow(sl - truth.at("slope_deg", ix, iy), 2);
+        const double e2 = std::pow(sl - truth.at("slope_deg", ix, iy), 2);
+        s.slope_sq += e2;
         ++s.slope_n;
+        if (!ours) s.agreed_sq += e2, ++s.agreed_n;
       }
     }
 }
@@ -57,10 +61,11 @@ inline void score(const Grid2D& map, const Grid2D& truth,
 inline void print(const char* name, const Score& s) {
   std::printf(
       "%s: impassable recall %.3f precision %.3f F1 %.3f, passable precision %.3f recall %.3f, "
-      "accuracy %.3f, coverage %.3f (%d known), slope RMSE on passable %.2f deg\n",
+      "accuracy %.3f, coverage %.3f (%d known), slope RMSE on passable %.2f deg (on cells both "
+      "call passable %.2f deg)\n",
       name, s.impassable_recall(), s.impassable_precision(), s.impassable_f1(),
       s.passable_precision(), s.passable_recall(), s.accuracy(), s.coverage(), s.known,
-      s.slope_rmse());
+      s.slope_rmse(), s.slope_rmse_agreed());
 }
 
 }  // namespace fieldlidar::terrain::test

@@ -20,6 +20,7 @@ namespace {
 
 struct DriveResult {
   Score score;
+  Grid2D global;
   int ghost_cells = 0, walker_cells = 0;  ///< truth-passable cells a person walked over
   double ms_per_scan = 0;
 };
@@ -38,7 +39,9 @@ void add_crossing_walkers(sim::Scene& scene) {
   }
 }
 
-DriveResult drive(const FusionConfig& config, std::uint64_t seed, bool walkers, double every_s) {
+/// `without`: the same drive's map with nobody walking (its obstacles are no ghosts).
+DriveResult drive(const FusionConfig& config, std::uint64_t seed, bool walkers, double every_s,
+                  const Grid2D* without = nullptr) {
   sim::Scene scene = sim::make_terrain_scene({}, seed);
   if (walkers) add_crossing_walkers(scene);
   const Grid2D truth = scene.terrain_truth({.resolution_m = 0.5});
@@ -58,7 +61,8 @@ DriveResult drive(const FusionConfig& config, std::uint64_t seed, bool walkers, 
     path.push_back(T.translation().head<2>());
   }
   r.ms_per_scan = ms / n;
-  const Grid2D global = map.global_map();
+  r.global = map.global_map();
+  const Grid2D& global = r.global;
   terrain::test::score(
       global, truth,
       [&](const Eigen::Vector2d& c) {
@@ -81,6 +85,8 @@ DriveResult drive(const FusionConfig& config, std::uint64_t seed, bool walkers, 
           const double u = std::clamp((c - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
           if ((a + u * ab - c).norm() > 0.5 || (c - end).norm() < 1.5) continue;
           if (truth.at("passable", ix, iy) < 0.5f) continue;
+          if (without && without->value_at(layer::kObstacleProjected, c).value_or(0.f) > 0.5f)
+            continue;
           const auto v = global.value_at(layer::kObstacleProjected, c);
           if (!v || std::isnan(*v)) continue;
           ++r.walker_cells;
@@ -93,19 +99,31 @@ DriveResult drive(const FusionConfig& config, std::uint64_t seed, bool walkers, 
 
 }  // namespace
 
+// Tuned on seeds 21 and 22 (the halo, the full-window rule, the slope margin were chosen on
+// them); seeds 23 and 24 held out. Slope RMSE is on the cells both the truth and the map call
+// passable (the slopes a planner uses).
 TEST(TerrainFusion, WholeDriveAgainstTruth) {
-  for (std::uint64_t seed : {21u, 22u}) {
+  for (std::uint64_t seed : {21u, 22u, 23u, 24u}) {
     const DriveResult r = drive({}, seed, false, 0.5);
     terrain::test::print(("fused seed " + std::to_string(seed)).c_str(), r.score);
     std::printf("  %.2f ms per scan\n", r.ms_per_scan);
-    EXPECT_GT(r.score.impassable_recall(), 0.97);
-    EXPECT_GT(r.score.passable_precision(), 0.97);
+    EXPECT_GE(r.score.impassable_recall(), 0.965) << seed;
+    EXPECT_GE(r.score.passable_precision(), 0.99) << seed;
+    EXPECT_GT(r.score.coverage(), 0.75) << seed;
+    EXPECT_LT(r.score.slope_rmse_agreed(), 1.5) << seed;
   }
 }
 
 TEST(TerrainFusion, WalkersLeaveNoGhostObstacle) {
-  const DriveResult r = drive({}, 21, true, 0.5);
+  const DriveResult empty = drive({}, 21, false, 0.5);
+  const DriveResult r = drive({}, 21, true, 0.5, &empty.global);
   std::printf("ghost cells %d of %d walked-over cells known\n", r.ghost_cells, r.walker_cells);
   EXPECT_GT(r.walker_cells, 20);
   EXPECT_EQ(r.ghost_cells, 0);
+  // Without the decay (ground seen again barely counts) the same walkers do leave obstacles.
+  FusionConfig no_decay;
+  no_decay.miss_log_odds = -0.01f;
+  const DriveResult ghosts = drive(no_decay, 21, true, 0.5, &empty.global);
+  std::printf("without decay: ghost cells %d of %d\n", ghosts.ghost_cells, ghosts.walker_cells);
+  EXPECT_GT(ghosts.ghost_cells, 5);
 }

@@ -31,10 +31,22 @@ struct FusionConfig {
   TraversabilityConfig layers;
   double local_side_m = 40.0;  ///< side of the rolling local map around the last sensor position
   float hit_log_odds = 0.85f;
-  float miss_log_odds = -0.4f;
+  float miss_log_odds = -0.7f;
   float min_log_odds = -2.0f;
   float max_log_odds = 3.5f;
   int min_free_ground_points = 3;
+  /// Non-ground returns more than the robot's max step below the cell's ground (a pit's or
+  /// ditch's wall seen over its rim) are obstacle evidence too.
+  bool pit_evidence = true;
+  /// A cell is called passable only when every cell of its voxel window (the robot's footprint)
+  /// was seen; else it stays unknown (a shadow behind a rock or inside a pit is no free ground).
+  bool passable_needs_full_window = true;
+  /// An obstacle's 4 neighbour cells are impassable too (its footprint is larger than the
+  /// returns on it show: the low rim of a rock, the far side of a bush).
+  bool obstacle_halo = true;
+  /// The planes give the mean slope over a cell or window, the robot tips on the steepest part:
+  /// ground steeper than max_slope_deg - slope_margin_deg is a 2D obstacle.
+  double slope_margin_deg = 3.0;
   int min_ground_points = 3;  ///< fused ground returns of its own for a cell to be known
   /// A cell's own plane gives its slope once it holds this many ground returns (else the voxel
   /// window's plane does).
