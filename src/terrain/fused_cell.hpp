@@ -56,8 +56,15 @@ struct FusedCell {
   float log_odds = 0.0f;                                  ///< obstacle evidence
   std::uint32_t returns = 0;                              ///< every return that fell in the cell
   std::array<float, kLayerCount> layers;
+  /// ground.mean() and ground.covariance(), refreshed when ground returns are added.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
 
   FusedCell() { layers.fill(std::numeric_limits<float>::quiet_NaN()); }
+  void refresh_moments() {
+    mean = ground.mean();
+    covariance = ground.covariance();
+  }
 };
 
 /// Cells by integer index (ix, iy) = floor(xy / cell side), in tiles made on first write.
@@ -100,8 +107,8 @@ class CellStore {
   bool empty_ = true;
 };
 
-/// Recomputes the layers of cell (ix, iy) from its statistics and its voxel window's (a no-op
-/// for a cell never written).
-void derive_cell(CellStore& store, int ix, int iy, const FusionConfig& config);
+/// Recomputes the layers of cell (ix, iy) from its statistics and its voxel window's (`half`
+/// cells each side; a no-op for a cell never written).
+void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig& config);
 
 }  // namespace fieldlidar::terrain::detail

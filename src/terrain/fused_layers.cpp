@@ -17,7 +17,8 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 /// Unit normal (z >= 0) of the plane of a set's covariance.
 Eigen::Vector3d plane_normal(const PlaneSums& sums) {
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(sums.covariance());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(sums.covariance());  // closed form: 3 x 3, many cells per scan
   Eigen::Vector3d n = eig.eigenvectors().col(0);
   return n.z() < 0 ? Eigen::Vector3d(-n) : n;
 }
@@ -36,14 +37,14 @@ Eigen::Vector3d offset(double cell_m, int dx, int dy, float z_ref_to, float z_re
 double edge_slope_deg(const CellStore& store, int ix, int iy, const FusionConfig& config) {
   const FusedCell& cell = *store.find(ix, iy);
   const double cm = config.layers.cell_m;
-  const Eigen::Vector3d mean = cell.ground.mean();
+  const Eigen::Vector3d& mean = cell.mean;
   double steepest = 0;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       const FusedCell* q = store.find(ix + dx, iy + dy);
       if ((dx == 0 && dy == 0) || !q || q->ground.n < config.min_ground_points) continue;
       const Eigen::Vector3d d =
-          q->ground.mean() + offset(cm, dx, dy, cell.z_ref, q->z_ref) - mean;
+          q->mean + offset(cm, dx, dy, cell.z_ref, q->z_ref) - mean;
       const double run = std::max(0.25 * cm, d.head<2>().norm());
       steepest = std::max(steepest, std::atan(std::abs(d.z()) / run) / kDeg);
     }
@@ -62,7 +63,7 @@ bool window_seen(const CellStore& store, int ix, int iy, int half, const FusionC
 
 }  // namespace
 
-void derive_cell(CellStore& store, int ix, int iy, const FusionConfig& config) {
+void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig& config) {
   FusedCell* cell = store.find(ix, iy);
   if (!cell) return;
   const TraversabilityConfig& c = config.layers;
@@ -76,7 +77,6 @@ void derive_cell(CellStore& store, int ix, int iy, const FusionConfig& config) {
       obstacle = obstacle || (q && q->log_odds > 0.0f);
     }
   const bool ground_known = cell->ground.n >= config.min_ground_points;
-  const int half = int(std::lround(voxel_side_m(c) / c.cell_m)) / 2;
 
   // The voxel window's ground statistics in this cell's frame.
   PlaneSums window;
@@ -111,9 +111,9 @@ void derive_cell(CellStore& store, int ix, int iy, const FusionConfig& config) {
     for (int dx = -half; dx <= half; ++dx) {
       const FusedCell* q = store.find(ix + dx, iy + dy);
       if (!q || q->ground.n <= 0) continue;
-      const Eigen::Vector3d mean = q->ground.mean() + offset(c.cell_m, dx, dy, cell->z_ref, q->z_ref);
+      const Eigen::Vector3d mean = q->mean + offset(c.cell_m, dx, dy, cell->z_ref, q->z_ref);
       const double d = window_normal.dot(mean - centroid);
-      const double var = std::max(0.0, window_normal.dot(q->ground.covariance() * window_normal));
+      const double var = std::max(0.0, window_normal.dot(q->covariance * window_normal));
       const double sd = config.step_sigmas * std::sqrt(var);
       lo = first ? d - sd : std::min(lo, d - sd);
       hi = first ? d + sd : std::max(hi, d + sd);

@@ -162,10 +162,11 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
         (f.pit_evidence && above < -c.robot.max_step_m))
       ++s.raised;
   }
-  // Evidence per cell, then the layers of the touched cells and of every cell whose window
-  // holds one.
-  std::vector<std::uint8_t> dirty(local.size(), 0);
-  const int half = int(std::lround(voxel_side_m(c) / cm)) / 2;
+  // Evidence per cell, then the layers of every cell whose ground or evidence changed and of
+  // the cells whose voxel window (or obstacle halo) holds one: the scan's window padded by `pad`.
+  const int half = int(std::lround(voxel_side_m(c) / cm)) / 2, pad = std::max(half, 1);
+  const int pw = w + 2 * pad, ph = h + 2 * pad;
+  std::vector<std::uint8_t> dirty(std::size_t(pw) * ph, 0);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       ScanCell& s = local[std::size_t(y) * w + x];
@@ -173,33 +174,23 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
       ++u.cells_touched;
       FusedCell& cell = *s.cell;
       cell.returns += s.returns;
+      if (s.ground > 0) cell.refresh_moments();
+      const float before = cell.log_odds;
       if (int(s.raised) >= c.min_obstacle_points)
         cell.log_odds = std::min(f.max_log_odds, cell.log_odds + f.hit_log_odds);
       else if (int(s.ground) >= f.min_free_ground_points)
         cell.log_odds = std::max(f.min_log_odds, cell.log_odds + f.miss_log_odds);
-      for (int dy = -half; dy <= half; ++dy)
-        for (int dx = -half; dx <= half; ++dx)
-          if (x + dx >= 0 && y + dy >= 0 && x + dx < w && y + dy < h)
-            dirty[std::size_t(y + dy) * w + x + dx] = 1;
+      if (s.ground == 0 && cell.log_odds == before) continue;
+      for (int dy = -pad; dy <= pad; ++dy)
+        for (int dx = -pad; dx <= pad; ++dx)
+          dirty[std::size_t(y + pad + dy) * pw + (x + pad + dx)] = 1;
     }
-  // The window's rim cells outside the scan's extent keep their layers: their windows changed
-  // only when a touched neighbour is inside; recompute those too.
-  for (int y = -half; y < h + half; ++y)
-    for (int x = -half; x < w + half; ++x) {
-      const bool inside = x >= 0 && y >= 0 && x < w && y < h;
-      if (inside && !dirty[std::size_t(y) * w + x]) continue;
-      if (!inside) {
-        bool near = false;
-        for (int dy = -half; dy <= half && !near; ++dy)
-          for (int dx = -half; dx <= half && !near; ++dx) {
-            const int xx = x + dx, yy = y + dy;
-            near = xx >= 0 && yy >= 0 && xx < w && yy < h && local[std::size_t(yy) * w + xx].cell;
-          }
-        if (!near) continue;
+  for (int y = 0; y < ph; ++y)
+    for (int x = 0; x < pw; ++x)
+      if (dirty[std::size_t(y) * pw + x]) {
+        detail::derive_cell(impl_->store, lo.x() + x - pad, lo.y() + y - pad, half, f);
+        ++u.cells_updated;
       }
-      detail::derive_cell(impl_->store, lo.x() + x, lo.y() + y, f);
-      ++u.cells_updated;
-    }
   return u;
 }
 
