@@ -42,7 +42,11 @@ static void fuse_frames(benchmark::State& state, const SensorModel& sensor) {
   }
   state.counters["points"] = double(frames.front().cloud.size());
 }
-static void BM_TerrainFuseVlp16(benchmark::State& state) { fuse_frames(state, SensorModel::vlp16()); }
-static void BM_TerrainFuseOs1_64(benchmark::State& state) { fuse_frames(state, SensorModel::os1_64()); }
+static void BM_TerrainFuseVlp16(benchmark::State& state) {
+  fuse_frames(state, SensorModel::vlp16());
+}
+static void BM_TerrainFuseOs1_64(benchmark::State& state) {
+  fuse_frames(state, SensorModel::os1_64());
+}
 BENCHMARK(BM_TerrainFuseVlp16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TerrainFuseOs1_64)->Unit(benchmark::kMillisecond);

@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <vector>
 #include <string>
+#include <vector>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -28,9 +28,9 @@
 #include "fieldlidar/terrain/robot_config.hpp"
 #include "fieldlidar/terrain/terrain_map.hpp"
 #include "fieldlidar/terrain/traversability.hpp"
-#include "support/terrain_picture.hpp"
 #include "support/option_checks.hpp"
 #include "support/sensor_choice.hpp"
+#include "support/terrain_picture.hpp"
 #include "support/warnings.hpp"
 
 namespace fieldlidar::app {
@@ -182,8 +182,7 @@ void run(const TraversabilityOptions& o) {
   const fs::path in(o.input);
   const std::string ext = in.extension().string();
   const bool sequence = !o.poses.empty() || fs::is_directory(in) ||
-                        o.input.find('*') != std::string::npos || ext == ".pcap" ||
-                        ext == ".bag";
+                        o.input.find('*') != std::string::npos || ext == ".pcap" || ext == ".bag";
   Grid2D map;
   PointCloud cloud;
   nlohmann::json j;
@@ -216,10 +215,10 @@ void run(const TraversabilityOptions& o) {
       map = terrain::map_scan(cloud, sensor, Pose::Identity(), cfg);
       what = "sweep, " + sensor.name;
     } else {
-      warn(fmt::format(
-          "{}: not one sensor sweep ({}); mapped as a survey of the whole area (give "
-          "--sensor for a sweep)",
-          o.input, check.reason));
+      warn(
+          fmt::format("{}: not one sensor sweep ({}); mapped as a survey of the whole area (give "
+                      "--sensor for a sweep)",
+                      o.input, check.reason));
       map = terrain::map_area(cloud, cfg);
       what = "survey";
     }
@@ -236,11 +235,11 @@ void run(const TraversabilityOptions& o) {
   io::write_file_atomic(out / "traversability.pgm", nav2.pgm, o.force);
   io::write_file_atomic(out / "traversability.yaml", nav2.yaml, o.force);
   write_geotiffs(map, cloud.origin_m, out / "layers", o.force);
-  draw_terrain_map(map, cfg.robot,
-                   fmt::format("{}: traversability, {} m cells ({})",
-                               fs::path(o.input).filename().string(),
-                               map.geometry().resolution_m, what),
-                   out / "traversability.png", o.force);
+  draw_terrain_map(
+      map, cfg.robot,
+      fmt::format("{}: traversability, {} m cells ({})", fs::path(o.input).filename().string(),
+                  map.geometry().resolution_m, what),
+      out / "traversability.png", o.force);
 
   const GridGeometry& g = map.geometry();
   const auto tau = map.layer(terrain::layer::kTraversability);
@@ -294,7 +293,8 @@ void add_traversability_command(CLI::App& app) {
                   "Robot config YAML (length_m, width_m, max_slope_deg, max_step_m, "
                   "clearance_m, min_obstacle_height_m); default: the seed's 0.93 x 0.58 m robot")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--out", o->out, "Output folder (traversability.yaml/.pgm/.png, layers/*.tif, summary.json)")
+  cmd->add_option("--out", o->out,
+                  "Output folder (traversability.yaml/.pgm/.png, layers/*.tif, summary.json)")
       ->required();
   cmd->add_option("--sensor", o->sensor,
                   "Sensor preset: map INPUT as one sweep of it (default: a sweep's from its "

@@ -32,8 +32,8 @@ std::string encode_geotiff(const Grid2D& grid, const std::string& layer,
   CSLDestroy(options);
   if (!ds) throw Error("geotiff: GDAL could not create the raster for layer '" + layer + "'");
   const Eigen::Vector2d origin = g.origin_m + config.origin_offset_m;
-  double transform[6] = {origin.x(), g.resolution_m, 0.0,
-                         origin.y() + g.height * g.resolution_m, 0.0, -g.resolution_m};
+  double transform[6] = {origin.x(), g.resolution_m, 0.0, origin.y() + g.height * g.resolution_m,
+                         0.0,        -g.resolution_m};
   ds->SetGeoTransform(transform);
   if (config.epsg > 0) {
     OGRSpatialReference srs;

@@ -43,12 +43,24 @@ struct PlaneSums {
 
 /// The order of the derived layers in FusedCell::layers (names in terrain::layer).
 enum LayerIndex {
-  kNx, kNy, kNz, kSlope, kRough, kRoughSum, kStep, kObst2d, kProj, kImpass, kTau, kElev,
+  kNx,
+  kNy,
+  kNz,
+  kSlope,
+  kRough,
+  kRoughSum,
+  kStep,
+  kObst2d,
+  kProj,
+  kImpass,
+  kTau,
+  kElev,
   kLayerCount
 };
 inline constexpr std::array<const char*, kLayerCount> kLayerNames = {
-    "normal_x", "normal_y", "normal_z", "slope_deg", "roughness_m", "roughness_sum_m", "step_m",
-    "obstacle_2d", "obstacle_projected", "impassable", "traversability", "elevation_m"};
+    layer::kNormalX,           layer::kNormalY,      layer::kNormalZ,        layer::kSlopeDeg,
+    layer::kRoughness,         layer::kRoughnessSum, layer::kStep,           layer::kObstacle2d,
+    layer::kObstacleProjected, layer::kImpassable,   layer::kTraversability, layer::kElevation};
 
 struct FusedCell {
   PlaneSums ground;  ///< ground returns relative to (cell centre x, y, z_ref)

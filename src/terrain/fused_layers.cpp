@@ -43,8 +43,7 @@ double edge_slope_deg(const CellStore& store, int ix, int iy, const FusionConfig
     for (int dx = -1; dx <= 1; ++dx) {
       const FusedCell* q = store.find(ix + dx, iy + dy);
       if ((dx == 0 && dy == 0) || !q || q->ground.n < config.min_ground_points) continue;
-      const Eigen::Vector3d d =
-          q->mean + offset(cm, dx, dy, cell.z_ref, q->z_ref) - mean;
+      const Eigen::Vector3d d = q->mean + offset(cm, dx, dy, cell.z_ref, q->z_ref) - mean;
       const double run = std::max(0.25 * cm, d.head<2>().norm());
       steepest = std::max(steepest, std::atan(std::abs(d.z()) / run) / kDeg);
     }
@@ -121,10 +120,9 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
       if (dx == 0 && dy == 0) rough = std::sqrt(var + d * d);
     }
   const double step = hi - lo;
-  const double plane_z =
-      centroid.z() - (window_normal.x() * (0.0 - centroid.x()) +
-                      window_normal.y() * (0.0 - centroid.y())) /
-                         std::max(0.05, window_normal.z());
+  const double plane_z = centroid.z() - (window_normal.x() * (0.0 - centroid.x()) +
+                                         window_normal.y() * (0.0 - centroid.y())) /
+                                            std::max(0.05, window_normal.z());
 
   L[kNx] = float(normal.x());
   L[kNy] = float(normal.y());

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/terrain/robot_config.hpp"
 #include "fused_cell.hpp"
 
 namespace fieldlidar::terrain {
@@ -30,7 +31,9 @@ struct ScanCell {
   float low_ground = std::numeric_limits<float>::infinity();
 };
 
-int cell_index(double v, double cell_m) { return int(std::floor(v / cell_m)); }
+int cell_index(double v, double cell_m) {
+  return int(std::floor(v / cell_m));
+}
 
 /// The layers of the w x h cells from index lo on, as a Grid2D (cells never written unknown).
 Grid2D copy_cells(const CellStore& store, const Eigen::Vector2i& lo, int w, int h, double cm) {
@@ -54,22 +57,28 @@ Grid2D copy_cells(const CellStore& store, const Eigen::Vector2i& lo, int w, int 
 }  // namespace
 
 TerrainMap::TerrainMap(FusionConfig config) : impl_(std::make_unique<Impl>()) {
-  voxel_height_m(config.layers);  // raises on an absurd robot
+  check_robot_config(config.layers.robot, "terrain fusion: robot");
+  voxel_height_m(config.layers);  // and the cell
   if (!(config.local_side_m > 0 && config.local_side_m <= 1e4))
     throw Error("terrain fusion: local_side_m = " + std::to_string(config.local_side_m) +
                 " is outside (0, 10000]");
-  if (!(config.hit_log_odds > 0 && config.miss_log_odds < 0 &&
-        config.min_log_odds < 0 && config.max_log_odds > 0))
-    throw Error("terrain fusion: hit_log_odds and max_log_odds must be > 0, miss_log_odds and "
-                "min_log_odds < 0");
+  if (!(config.hit_log_odds > 0 && config.miss_log_odds < 0 && config.min_log_odds < 0 &&
+        config.max_log_odds > 0))
+    throw Error(
+        "terrain fusion: hit_log_odds and max_log_odds must be > 0, miss_log_odds and "
+        "min_log_odds < 0");
   impl_->config = config;
 }
 TerrainMap::~TerrainMap() = default;
 TerrainMap::TerrainMap(TerrainMap&&) noexcept = default;
 TerrainMap& TerrainMap::operator=(TerrainMap&&) noexcept = default;
 
-std::size_t TerrainMap::scans() const { return impl_->scans; }
-const FusionConfig& TerrainMap::config() const { return impl_->config; }
+std::size_t TerrainMap::scans() const {
+  return impl_->scans;
+}
+const FusionConfig& TerrainMap::config() const {
+  return impl_->config;
+}
 
 FusionUpdate TerrainMap::add_scan(const PointCloud& scan, const SensorModel& sensor,
                                   const Pose& T_map_lidar) {
@@ -117,11 +126,12 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
   if (u.points == 0) return u;
   const int w = hi.x() - lo.x() + 1, h = hi.y() - lo.y() + 1;
   if (double(w) * h > 4e7)
-    throw Error("terrain fusion: one scan spans " + std::to_string(w) + " x " +
-                std::to_string(h) + " cells; far-off points? (max_range_m bounds add_scan)");
+    throw Error("terrain fusion: one scan spans " + std::to_string(w) + " x " + std::to_string(h) +
+                " cells; far-off points? (max_range_m bounds add_scan)");
   std::vector<ScanCell> local(std::size_t(w) * h);
   auto local_of = [&](const Eigen::Vector3d& p) -> ScanCell& {
-    return local[std::size_t(cell_index(p.y(), cm) - lo.y()) * w + (cell_index(p.x(), cm) - lo.x())];
+    return local[std::size_t(cell_index(p.y(), cm) - lo.y()) * w +
+                 (cell_index(p.x(), cm) - lo.x())];
   };
 
   // Ground returns into their cells' statistics (relative to the cell centre and z_ref).

@@ -133,8 +133,8 @@ TEST(CliTraversability, SimulatedTerrainFrameAndRefusesToOverwrite) {
 TEST(CliTraversability, SequenceFusedWithPosesRobotConfigAndGeoTiffs) {
   const auto dir = temp_dir("cli_traversability_seq");
   const auto sim = dir / "sim", out = dir / "out";
-  const auto s = run_cli(
-      args({"simulate", "--scene", "terrain", "--frames", "20", "--out", quoted(sim)}));
+  const auto s =
+      run_cli(args({"simulate", "--scene", "terrain", "--frames", "20", "--out", quoted(sim)}));
   ASSERT_EQ(s.exit_code, 0) << s.output;
   {
     std::ofstream robot(dir / "robot.yaml");

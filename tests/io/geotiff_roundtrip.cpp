@@ -28,9 +28,9 @@ TEST(GeoTiff, LayerRoundTripsThroughGdal) {
 
   GDALAllRegister();
   const std::string path = "/vsimem/geotiff_roundtrip.tif";
-  VSILFILE* f = VSIFileFromMemBuffer(path.c_str(),
-                                     reinterpret_cast<GByte*>(const_cast<char*>(bytes.data())),
-                                     vsi_l_offset(bytes.size()), FALSE);
+  VSILFILE* f =
+      VSIFileFromMemBuffer(path.c_str(), reinterpret_cast<GByte*>(const_cast<char*>(bytes.data())),
+                           vsi_l_offset(bytes.size()), FALSE);
   ASSERT_NE(f, nullptr);
   VSIFCloseL(f);
   GDALDataset* ds = static_cast<GDALDataset*>(GDALOpen(path.c_str(), GA_ReadOnly));

@@ -13,7 +13,8 @@ using namespace fieldlidar::terrain;
 
 namespace {
 
-/// Ground returns of the plane z = tan(slope) x over [0, 10]^2 every `spacing` m, shifted by `phase`.
+/// Ground returns of the plane z = tan(slope) x over [0, 10]^2 every `spacing` m, shifted by
+/// `phase`.
 void plane(double slope_deg, double spacing, double phase, std::vector<Eigen::Vector3d>& pts,
            std::vector<std::uint8_t>& ground) {
   const int n = int(std::lround(10.0 / spacing));
@@ -40,7 +41,7 @@ TEST(TerrainFusionCells, TwoSparseScansMakeOneDenseMap) {
   EXPECT_EQ(u.cells_touched, 400u);
   const Grid2D two = map.global_map();
   const Eigen::Vector2d c(5.25, 5.25);
-  EXPECT_EQ(*one.value_at(layer::kPoints, c), 9.0f);  // x, y in {5.05, 5.25, 5.45}
+  EXPECT_EQ(*one.value_at(layer::kPoints, c), 9.0f);   // x, y in {5.05, 5.25, 5.45}
   EXPECT_EQ(*two.value_at(layer::kPoints, c), 13.0f);  // and {5.15, 5.35}
   EXPECT_NEAR(*two.value_at(layer::kSlopeDeg, c), 10.0, 0.1);
   EXPECT_EQ(*two.value_at(layer::kImpassable, c), 0.0f);
@@ -59,7 +60,8 @@ TEST(TerrainFusionCells, ObstacleEvidenceDecaysWhenTheGroundIsSeenAgain) {
   plane(0.0, 0.1, 0.05, pts, ground);
   std::vector<Eigen::Vector3d> with_person = pts;
   std::vector<std::uint8_t> g_person = ground;
-  for (double z = 0.2; z < 1.0; z += 0.1) with_person.emplace_back(5.2, 5.2, z), g_person.push_back(0);
+  for (double z = 0.2; z < 1.0; z += 0.1)
+    with_person.emplace_back(5.2, 5.2, z), g_person.push_back(0);
   const Eigen::Vector2d c(5.25, 5.25);
   map.add_points(with_person, g_person, {0, 0, 1});
   EXPECT_EQ(*map.global_map().value_at(layer::kObstacleProjected, c), 1.0f);

@@ -106,7 +106,8 @@ TEST(TerrainFusion, WholeDriveAgainstTruth) {
   for (std::uint64_t seed : {21u, 22u, 23u, 24u}) {
     const DriveResult r = drive({}, seed, false, 0.5);
     terrain::test::print(("fused seed " + std::to_string(seed)).c_str(), r.score);
-    std::printf("  %.2f ms wall per scan (shared machine; bench_terrain has the CPU time)\n", r.ms_per_scan);
+    std::printf("  %.2f ms wall per scan (shared machine; bench_terrain has the CPU time)\n",
+                r.ms_per_scan);
     EXPECT_GE(r.score.impassable_recall(), 0.965) << seed;
     EXPECT_GE(r.score.passable_precision(), 0.99) << seed;
     EXPECT_GT(r.score.coverage(), 0.75) << seed;

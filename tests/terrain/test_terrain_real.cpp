@@ -6,8 +6,8 @@
 #include <ctime>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/label_file.hpp"
@@ -68,9 +68,10 @@ Counts score_rellis(const Grid2D& map, const char* layer_name, const PointCloud&
 }
 
 void print(const char* name, const Counts& s) {
-  std::printf("%s: obstacle precision %.3f recall %.3f, passable precision %.3f, %d of %d scored "
-              "cells known\n",
-              name, s.precision(), s.recall(), s.passable_precision(), s.known, s.scored);
+  std::printf(
+      "%s: obstacle precision %.3f recall %.3f, passable precision %.3f, %d of %d scored "
+      "cells known\n",
+      name, s.precision(), s.recall(), s.passable_precision(), s.known, s.scored);
 }
 
 Grid2D map_area_fused(const PointCloud& cloud, const TraversabilityConfig& config) {
@@ -123,47 +124,48 @@ TEST(TerrainReal, AirborneSlopeAgainstClassifiedGround) {
   FIELDLIDAR_REQUIRE_DATA("terrain_als/Topography.las");
   const io::LasCloud las = io::read_las(fieldlidar::test::data_file("terrain_als/Topography.las"));
   for (bool fused : {false, true})
-  for (double cell_m : {3.0, 5.0}) {
-    TraversabilityConfig config;
-    config.cell_m = cell_m;
-    const std::clock_t c0 = std::clock();
-    const Grid2D map = fused ? map_area_fused(las.cloud, config) : map_area(las.cloud, config);
-    const double cpu_s = double(std::clock() - c0) / CLOCKS_PER_SEC;
-    const auto& g = map.geometry();
-    std::vector<Eigen::Vector3d> s1(g.cell_count(), Eigen::Vector3d::Zero());
-    std::vector<Eigen::Matrix3d> s2(g.cell_count(), Eigen::Matrix3d::Zero());
-    std::vector<int> n(g.cell_count(), 0);
-    for (std::size_t i = 0; i < las.cloud.size(); ++i) {
-      if (las.cloud.labels[i] != 2) continue;
-      const Eigen::Vector3d p = las.cloud.points[i].xyz().cast<double>();
-      const auto cell = g.cell_of(p.head<2>());
-      if (!cell) continue;
-      const std::size_t k = g.linear_index(cell->x(), cell->y());
-      s1[k] += p;
-      s2[k] += p * p.transpose();
-      ++n[k];
+    for (double cell_m : {3.0, 5.0}) {
+      TraversabilityConfig config;
+      config.cell_m = cell_m;
+      const std::clock_t c0 = std::clock();
+      const Grid2D map = fused ? map_area_fused(las.cloud, config) : map_area(las.cloud, config);
+      const double cpu_s = double(std::clock() - c0) / CLOCKS_PER_SEC;
+      const auto& g = map.geometry();
+      std::vector<Eigen::Vector3d> s1(g.cell_count(), Eigen::Vector3d::Zero());
+      std::vector<Eigen::Matrix3d> s2(g.cell_count(), Eigen::Matrix3d::Zero());
+      std::vector<int> n(g.cell_count(), 0);
+      for (std::size_t i = 0; i < las.cloud.size(); ++i) {
+        if (las.cloud.labels[i] != 2) continue;
+        const Eigen::Vector3d p = las.cloud.points[i].xyz().cast<double>();
+        const auto cell = g.cell_of(p.head<2>());
+        if (!cell) continue;
+        const std::size_t k = g.linear_index(cell->x(), cell->y());
+        s1[k] += p;
+        s2[k] += p * p.transpose();
+        ++n[k];
+      }
+      double sq = 0;
+      int m = 0, known = 0;
+      const auto slope = map.layer(layer::kSlopeDeg);
+      for (std::size_t k = 0; k < g.cell_count(); ++k) {
+        if (!std::isfinite(slope[k])) continue;
+        ++known;
+        if (n[k] < 5) continue;
+        const Eigen::Vector3d mean = s1[k] / n[k];
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(s2[k] / n[k] - mean * mean.transpose());
+        const double truth = std::acos(std::abs(eig.eigenvectors().col(0).z())) * 180.0 / M_PI;
+        sq += std::pow(slope[k] - truth, 2);
+        ++m;
+      }
+      const double rmse = std::sqrt(sq / std::max(1, m));
+      std::printf(
+          "%s Topography.las, %.0f m cells: slope RMSE %.2f deg over %d cells (%d known of "
+          "%zu), %.3f s CPU\n",
+          fused ? "fused" : "single", cell_m, rmse, m, known, g.cell_count(), cpu_s);
+      // Measured: single-scan layers 4.63 / 6.82 deg (3 / 5 m cells), fused layers with a cell's
+      // own plane 3.04 / 3.25 deg. Class 2 is ~0.25 returns per m2: few 3 m cells hold 5 of them.
+      EXPECT_GT(m, cell_m > 4 ? 400 : 30);
+      EXPECT_LT(rmse, fused ? 3.5 : 7.5);
+      EXPECT_LT(cpu_s, 0.5);
     }
-    double sq = 0;
-    int m = 0, known = 0;
-    const auto slope = map.layer(layer::kSlopeDeg);
-    for (std::size_t k = 0; k < g.cell_count(); ++k) {
-      if (!std::isfinite(slope[k])) continue;
-      ++known;
-      if (n[k] < 5) continue;
-      const Eigen::Vector3d mean = s1[k] / n[k];
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(s2[k] / n[k] - mean * mean.transpose());
-      const double truth = std::acos(std::abs(eig.eigenvectors().col(0).z())) * 180.0 / M_PI;
-      sq += std::pow(slope[k] - truth, 2);
-      ++m;
-    }
-    const double rmse = std::sqrt(sq / std::max(1, m));
-    std::printf("%s Topography.las, %.0f m cells: slope RMSE %.2f deg over %d cells (%d known of "
-                "%zu), %.3f s CPU\n",
-                fused ? "fused" : "single", cell_m, rmse, m, known, g.cell_count(), cpu_s);
-    // Measured: single-scan layers 4.63 / 6.82 deg (3 / 5 m cells), fused layers with a cell's own
-    // plane 3.04 / 3.25 deg. Class 2 is ~0.25 returns per m2: few 3 m cells hold 5 of them.
-    EXPECT_GT(m, cell_m > 4 ? 400 : 30);
-    EXPECT_LT(rmse, fused ? 3.5 : 7.5);
-    EXPECT_LT(cpu_s, 0.5);
-  }
 }

@@ -76,12 +76,11 @@ void draw_terrain_map(const Grid2D& map, const terrain::RobotConfig& robot,
                 names[std::size_t(k)], {}, 14.0);
   canvas.title(title);
   // The legend as one coloured line above the panels.
-  const std::array<std::pair<const char*, Rgb>, 5> legend = {
-      {{"impassable / obstacle", kBlocked},
-       {"too steep", {1.0, 0.55, 0.0}},
-       {"step or pit", {0.55, 0.2, 0.7}},
-       {"tau 0.5", tau_colour(0.5)},
-       {"unknown (never free)", kUnknown}}};
+  const std::array<std::pair<const char*, Rgb>, 5> legend = {{{"impassable / obstacle", kBlocked},
+                                                              {"too steep", {1.0, 0.55, 0.0}},
+                                                              {"step or pit", {0.55, 0.2, 0.7}},
+                                                              {"tau 0.5", tau_colour(0.5)},
+                                                              {"unknown (never free)", kUnknown}}};
   Eigen::Vector2d at = g.origin_m + Eigen::Vector2d(0, 2 * size.y() + 1.9 * gap);
   for (const auto& [label, colour] : legend) {
     canvas.text(at, std::string("\u25A0 ") + label, colour, 14.0);

@@ -74,13 +74,11 @@ class TerrainMap {
 
   /// One scan in its lidar frame at pose T_map_lidar: ground segmentation, then add_points.
   /// Empty or all-invalid scans change nothing.
-  FusionUpdate add_scan(const PointCloud& scan, const SensorModel& sensor,
-                        const Pose& T_map_lidar);
+  FusionUpdate add_scan(const PointCloud& scan, const SensorModel& sensor, const Pose& T_map_lidar);
   /// Returns already in the map frame (z up) with their ground flags, seen from sensor_m.
   /// Non-finite points are skipped.
   FusionUpdate add_points(std::span<const Eigen::Vector3d> points_m,
-                          std::span<const std::uint8_t> is_ground,
-                          const Eigen::Vector3d& sensor_m);
+                          std::span<const std::uint8_t> is_ground, const Eigen::Vector3d& sensor_m);
 
   /// The layers (names of terrain::layer, NaN = unknown) on a square of side side_m centred on
   /// center_m, cells on multiples of the cell side.
