@@ -154,6 +154,13 @@ TEST(CliTraversability, SequenceFusedWithPosesRobotConfigAndGeoTiffs) {
     ASSERT_TRUE(fs::exists(tif)) << tif;
     EXPECT_EQ(slurp(tif).substr(0, 4), std::string("II*\0", 4)) << tif;
   }
+  // Without --poses the lidar odometry places the frames (the first scan's frame).
+  const auto o = run_cli(args({"traversability", quoted(sim), "--out", quoted(dir / "odo")}));
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  const auto jo = nlohmann::json::parse(slurp(dir / "odo" / "summary.json"));
+  EXPECT_EQ(jo["frames"], 20);
+  EXPECT_NE(jo["placed_by"].get<std::string>().find("odometry"), std::string::npos);
+  EXPECT_GT(jo["cells_known"].get<int>(), 500);
   // An absurd robot is refused before any work, naming the field.
   {
     std::ofstream robot(dir / "absurd.yaml");
