@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <span>
 #include <unordered_map>
 
 #include <Eigen/Core>
@@ -66,7 +67,8 @@ struct FusedCell {
   PlaneSums ground;  ///< ground returns relative to (cell centre x, y, z_ref)
   float z_ref = std::numeric_limits<float>::quiet_NaN();  ///< z of the first ground return
   float log_odds = 0.0f;                                  ///< obstacle evidence
-  std::uint32_t returns = 0;                              ///< every return that fell in the cell
+  float obstacle_top_m = 0.0f;  ///< highest obstacle return above the ground while it holds
+  std::uint32_t returns = 0;    ///< every return that fell in the cell
   std::array<float, kLayerCount> layers;
   /// ground.mean() and ground.covariance(), refreshed when ground returns are added.
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -118,6 +120,22 @@ class CellStore {
   Eigen::Vector2i lo_ = Eigen::Vector2i::Zero(), hi_ = Eigen::Vector2i::Zero();
   bool empty_ = true;
 };
+
+/// What one scan saw in one cell.
+struct ScanCell {
+  FusedCell* cell = nullptr;
+  std::uint32_t returns = 0, ground = 0, raised = 0;
+  float low_ground = std::numeric_limits<float>::infinity();
+  float top_m = 0.0f;         ///< highest obstacle return above the ground
+  bool seen_through = false;  ///< a ray crossed the cell's obstacle volume and ended beyond
+};
+
+/// The cells of the scan's window (w x h from cell index lo) that hold obstacle evidence and that
+/// a return's ray (every `stride`-th, from sensor_m) crossed between min_obstacle_height and the
+/// obstacle's top above the cell's ground without ending there: seen_through is set.
+void mark_seen_through(std::span<ScanCell> local, const Eigen::Vector2i& lo, int w, int h,
+                       std::span<const Eigen::Vector3d> points_m, const Eigen::Vector3d& sensor_m,
+                       int stride, const FusionConfig& config);
 
 /// Recomputes the layers of cell (ix, iy) from its statistics and its voxel window's (`half`
 /// cells each side; a no-op for a cell never written).

@@ -14,6 +14,7 @@ namespace fieldlidar::terrain {
 
 using detail::CellStore;
 using detail::FusedCell;
+using detail::ScanCell;
 
 struct TerrainMap::Impl {
   FusionConfig config;
@@ -23,13 +24,6 @@ struct TerrainMap::Impl {
 };
 
 namespace {
-
-/// What one scan saw in one cell.
-struct ScanCell {
-  FusedCell* cell = nullptr;
-  std::uint32_t returns = 0, ground = 0, raised = 0;
-  float low_ground = std::numeric_limits<float>::infinity();
-};
 
 int cell_index(double v, double cell_m) {
   return int(std::floor(v / cell_m));
@@ -168,10 +162,15 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
     if (!std::isfinite(base)) continue;
     const double above = p.z() - base;
     // Up into the robot's body, or down a pit's wall beyond the step it can take.
-    if ((above >= c.robot.min_obstacle_height_m && above <= c.robot.clearance_m) ||
-        (f.pit_evidence && above < -c.robot.max_step_m))
+    if (above >= c.robot.min_obstacle_height_m && above <= c.robot.clearance_m) {
       ++s.raised;
+      s.top_m = std::max(s.top_m, float(above));
+    } else if (f.pit_evidence && above < -c.robot.max_step_m) {
+      ++s.raised;
+    }
   }
+  if (f.see_through_stride > 0)
+    detail::mark_seen_through(local, lo, w, h, pts, sensor_m, f.see_through_stride, f);
   // Evidence per cell, then the layers of every cell whose ground or evidence changed and of
   // the cells whose voxel window (or obstacle halo) holds one: the scan's window padded by `pad`.
   const int half = int(std::lround(voxel_side_m(c) / cm)) / 2, pad = std::max(half, 1);
@@ -186,10 +185,13 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
       cell.returns += s.returns;
       if (s.ground > 0) cell.refresh_moments();
       const float before = cell.log_odds;
-      if (int(s.raised) >= c.min_obstacle_points)
+      if (int(s.raised) >= c.min_obstacle_points) {
         cell.log_odds = std::min(f.max_log_odds, cell.log_odds + f.hit_log_odds);
-      else if (int(s.ground) >= f.min_free_ground_points)
+        cell.obstacle_top_m = std::max(cell.obstacle_top_m, s.top_m);
+      } else if (int(s.ground) >= f.min_free_ground_points || s.seen_through) {
         cell.log_odds = std::max(f.min_log_odds, cell.log_odds + f.miss_log_odds);
+        if (cell.log_odds <= 0.0f) cell.obstacle_top_m = 0.0f;
+      }
       if (s.ground == 0 && cell.log_odds == before) continue;
       for (int dy = -pad; dy <= pad; ++dy)
         for (int dx = -pad; dx <= pad; ++dx)

@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "fieldlidar/core/grid2d.hpp"
+#include "fieldlidar/core/pose.hpp"
 #include "fieldlidar/terrain/traversability.hpp"
 
 namespace fieldlidar::terrain::test {
@@ -31,15 +32,24 @@ struct Score {
   double slope_rmse_agreed() const { return std::sqrt(agreed_sq / std::max(1, agreed_n)); }
 };
 
-/// Adds the truth cells for which `keep(centre)` holds to the score.
+/// Adds the truth cells for which `keep(centre)` holds to the score. With `T_map_world`, the map
+/// is in another frame (e.g. the first scan's): each truth cell's centre on the ground (its
+/// elevation) is looked up where that frame puts it.
 inline void score(const Grid2D& map, const Grid2D& truth,
-                  const std::function<bool(const Eigen::Vector2d&)>& keep, Score& s) {
+                  const std::function<bool(const Eigen::Vector2d&)>& keep, Score& s,
+                  const Pose* T_map_world = nullptr) {
   const auto& g = truth.geometry();
   for (int iy = 0; iy < g.height; ++iy)
     for (int ix = 0; ix < g.width; ++ix) {
-      const Eigen::Vector2d c = g.cell_center(ix, iy);
-      if (!keep(c)) continue;
+      const Eigen::Vector2d w = g.cell_center(ix, iy);
+      if (!keep(w)) continue;
       ++s.truth_cells;
+      const Eigen::Vector2d c =
+          T_map_world
+              ? Eigen::Vector2d(
+                    (*T_map_world * Eigen::Vector3d(w.x(), w.y(), truth.at("elevation", ix, iy)))
+                        .head<2>())
+              : w;
       const auto v = map.value_at(layer::kImpassable, c);
       if (!v || std::isnan(*v)) continue;
       ++s.known;

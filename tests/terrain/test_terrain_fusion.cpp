@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fieldlidar/odometry/lidar_odometry.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/motion.hpp"
 #include "fieldlidar/sim/scenes.hpp"
@@ -100,19 +101,63 @@ DriveResult drive(const FusionConfig& config, std::uint64_t seed, bool walkers, 
 }  // namespace
 
 // Tuned on seeds 21 and 22 (the halo, the full-window rule, the slope margin were chosen on
-// them); seeds 23 and 24 held out. Slope RMSE is on the cells both the truth and the map call
-// passable (the slopes a planner uses).
+// them); seeds 23 and 24 held out. Measured (scans every 0.5 s): impassable recall
+// 0.967/0.987 tuned, 0.972/0.966 held out; passable precision 0.990-0.997; coverage 0.80-0.83.
+// Slope RMSE is on the cells both the truth and the map call passable (the slopes a planner uses).
 TEST(TerrainFusion, WholeDriveAgainstTruth) {
   for (std::uint64_t seed : {21u, 22u, 23u, 24u}) {
     const DriveResult r = drive({}, seed, false, 0.5);
     terrain::test::print(("fused seed " + std::to_string(seed)).c_str(), r.score);
     std::printf("  %.2f ms wall per scan (shared machine; bench_terrain has the CPU time)\n",
                 r.ms_per_scan);
-    EXPECT_GE(r.score.impassable_recall(), 0.965) << seed;
+    EXPECT_GE(r.score.impassable_recall(), 0.96) << seed;
     EXPECT_GE(r.score.passable_precision(), 0.99) << seed;
     EXPECT_GT(r.score.coverage(), 0.75) << seed;
     EXPECT_LT(r.score.slope_rmse_agreed(), 1.5) << seed;
   }
+}
+
+// The same map placed by the lidar odometry (seed 002) instead of the true poses: every sweep of
+// the first 30 s at 10 Hz, the map in the first scan's frame. Seed 23 (held out).
+TEST(TerrainFusion, PlacedByLidarOdometry) {
+  const sim::Scene scene = sim::make_terrain_scene({}, 23);
+  const Grid2D truth = scene.terrain_truth({.resolution_m = 0.5});
+  const SensorModel sensor = SensorModel::vlp16();
+  const sim::LidarSimulator lidar(scene, sensor);
+  const auto motion = sim::drive_scene_route(scene, 32.0);
+  odometry::LidarOdometry odo(sensor);
+  TerrainMap map, truth_placed;
+  std::vector<Eigen::Vector2d> path;
+  Pose T_world_first = Pose::Identity(), last_error = Pose::Identity();
+  for (int f = 0; f < 300; ++f) {
+    const double t = 0.5 + 0.1 * f;
+    const Pose T = motion.T_world_lidar(t);
+    sim::SimFrame frame = lidar.scan(t, T);
+    frame.cloud.stamp_s = t;
+    if (f == 0) T_world_first = T;
+    const Pose T_odo = odo.register_frame(frame.cloud).T_world_lidar;
+    map.add_scan(frame.cloud, sensor, T_odo);
+    truth_placed.add_scan(frame.cloud, sensor, T);
+    path.push_back(T.translation().head<2>());
+    last_error = (T_world_first * T_odo).inverse() * T;
+  }
+  const Pose T_map_world = T_world_first.inverse();
+  const auto near_path = [&](const Eigen::Vector2d& c) {
+    for (const auto& p : path)
+      if ((c - p).norm() < 15.0) return true;
+    return false;
+  };
+  Score s, t;
+  terrain::test::score(map.global_map(), truth, near_path, s, &T_map_world);
+  terrain::test::score(truth_placed.global_map(), truth, near_path, t);
+  terrain::test::print("fused seed 23, odometry poses", s);
+  terrain::test::print("fused seed 23, true poses", t);
+  std::printf("  odometry end error %.3f m over %.1f m\n", last_error.translation().norm(),
+              (path.back() - path.front()).norm());
+  // Measured: recall 0.956 (true poses 0.957), passable precision 0.989, coverage 0.80.
+  EXPECT_GE(s.impassable_recall(), 0.95);
+  EXPECT_GE(s.passable_precision(), 0.98);
+  EXPECT_GT(s.coverage(), 0.6);
 }
 
 TEST(TerrainFusion, WalkersLeaveNoGhostObstacle) {

@@ -25,8 +25,10 @@ namespace fieldlidar::terrain {
 /// log-odds: a scan with `min_obstacle_points` returns between the robot's min_obstacle_height and
 /// clearance above the cell's ground adds `hit_log_odds`; a scan that sees
 /// `min_free_ground_points` ground returns in the cell and no such return adds `miss_log_odds`
-/// (negative), so a person who walked through leaves no obstacle once the ground there is seen
-/// again. A cell is an obstacle while its log-odds is above 0.
+/// (negative), and so does a scan whose ray crosses the cell between min_obstacle_height and the
+/// cell's obstacle top without ending there (seen through), so a person who walked through leaves
+/// no obstacle once the ground there is seen again or seen past. A scan that hits the cell wins
+/// over one that sees through it. A cell is an obstacle while its log-odds is above 0.
 struct FusionConfig {
   TraversabilityConfig layers;
   double local_side_m = 40.0;  ///< side of the rolling local map around the last sensor position
@@ -35,6 +37,8 @@ struct FusionConfig {
   float min_log_odds = -2.0f;
   float max_log_odds = 3.5f;
   int min_free_ground_points = 3;
+  /// Every n-th return's ray is traced for see-through evidence (0: none).
+  int see_through_stride = 4;
   /// Non-ground returns more than the robot's max step below the cell's ground (a pit's or
   /// ditch's wall seen over its rim) are obstacle evidence too.
   bool pit_evidence = true;
