@@ -161,7 +161,8 @@ TEST(TerrainFusion, PlacedByLidarOdometry) {
 }
 
 // Scans every 0.5 s. Scanning every sweep (10 Hz) the same drive leaves 5 of 106 walked-over cells
-// as obstacles (measured, not asserted: cells on a hillside near where a walker stopped).
+// as obstacles (measured, not asserted): traced, they are cells the robot saw last, once, while
+// the second walker stood in them (1.5 m/s robot already past, behind the hill), and never again.
 TEST(TerrainFusion, WalkersLeaveNoGhostObstacle) {
   const DriveResult empty = drive({}, 21, false, 0.5);
   const DriveResult r = drive({}, 21, true, 0.5, &empty.global);
