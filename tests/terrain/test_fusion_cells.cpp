@@ -51,6 +51,11 @@ TEST(TerrainFusionCells, TwoSparseScansMakeOneDenseMap) {
   EXPECT_EQ(local.geometry().width, 8);
   EXPECT_EQ(*local.value_at(layer::kSlopeDeg, c), *two.value_at(layer::kSlopeDeg, c));
   EXPECT_TRUE(std::isnan(*map.local_map({50, 50}, 4.0).value_at(layer::kImpassable, {50, 50})));
+  // The rolling local map follows the last scan's sensor (local_side_m around it).
+  const Grid2D rolling = map.local_map();
+  EXPECT_EQ(rolling.geometry().width, 80);  // 40 m / 0.5 m
+  EXPECT_NEAR(rolling.geometry().origin_m.x(), 5.0 - 20.0, 1e-9);
+  EXPECT_EQ(*rolling.value_at(layer::kSlopeDeg, c), *two.value_at(layer::kSlopeDeg, c));
 }
 
 TEST(TerrainFusionCells, ObstacleEvidenceDecaysWhenTheGroundIsSeenAgain) {
