@@ -4,6 +4,7 @@
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/motion.hpp"
 #include "fieldlidar/sim/scenes.hpp"
+#include "fieldlidar/terrain/terrain_map.hpp"
 #include "fieldlidar/terrain/traversability.hpp"
 
 using namespace fieldlidar;
@@ -23,3 +24,29 @@ static void BM_TerrainMapVlp16Frame(benchmark::State& state) {
   state.counters["points"] = double(frame.cloud.size());
 }
 BENCHMARK(BM_TerrainMapVlp16Frame)->Arg(20)->Arg(40)->Unit(benchmark::kMillisecond);
+
+// One map update of the fused map (ground segmentation included), the map already holding the
+// drive so far: a VLP-16 and an OS1-64 sweep of the off-road scene.
+static void fuse_frames(benchmark::State& state, const SensorModel& sensor) {
+  const sim::Scene scene = sim::make_terrain_scene({}, 11);
+  const sim::LidarSimulator lidar(scene, sensor);
+  const auto motion = sim::drive_scene_route(scene, 12.0);
+  std::vector<sim::SimFrame> frames;
+  for (double t = 1.0; t < 11.0; t += 0.5) frames.push_back(lidar.scan(t, motion.T_world_lidar(t)));
+  terrain::TerrainMap map;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto& f = frames[i++ % frames.size()];
+    const auto u = map.add_scan(f.cloud, sensor, f.T_world_lidar_start);
+    benchmark::DoNotOptimize(u.cells_updated);
+  }
+  state.counters["points"] = double(frames.front().cloud.size());
+}
+static void BM_TerrainFuseVlp16(benchmark::State& state) {
+  fuse_frames(state, SensorModel::vlp16());
+}
+static void BM_TerrainFuseOs1_64(benchmark::State& state) {
+  fuse_frames(state, SensorModel::os1_64());
+}
+BENCHMARK(BM_TerrainFuseVlp16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TerrainFuseOs1_64)->Unit(benchmark::kMillisecond);

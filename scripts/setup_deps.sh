@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build git pkg-config
   libeigen3-dev libpcl-dev libnanoflann-dev libembree-dev libtbb-dev
   libcli11-dev libfmt-dev nlohmann-json3-dev libyaml-cpp-dev
-  libcairo2-dev libpcap-dev librosbag-storage-dev pluginlib-dev
+  libcairo2-dev libpcap-dev librosbag-storage-dev pluginlib-dev libgdal-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
 )

@@ -1,12 +1,16 @@
-// fieldlidar traversability INPUT --out DIR: the traversability map of one scan or survey file
-// (seed 004, steps b-d) as a nav2 map_server map, a top-down picture and a summary.
+// fieldlidar traversability INPUT [--poses POSES] [--robot config.yaml] --out DIR: the
+// traversability map (seed 004, steps b-d) of one scan, a survey file, or a sequence of scans fused
+// over time (placed by --poses, else by the lidar odometry), as a nav2 map_server map, one GeoTIFF
+// per layer, a top-down picture and a summary.
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -15,12 +19,18 @@
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/file_util.hpp"
+#include "fieldlidar/io/frame_source.hpp"
+#include "fieldlidar/io/geotiff.hpp"
 #include "fieldlidar/io/nav2_map.hpp"
+#include "fieldlidar/io/trajectory_io.hpp"
+#include "fieldlidar/odometry/lidar_odometry.hpp"
 #include "fieldlidar/segmentation/ground.hpp"
+#include "fieldlidar/terrain/robot_config.hpp"
+#include "fieldlidar/terrain/terrain_map.hpp"
 #include "fieldlidar/terrain/traversability.hpp"
-#include "support/canvas.hpp"
 #include "support/option_checks.hpp"
 #include "support/sensor_choice.hpp"
+#include "support/terrain_picture.hpp"
 #include "support/warnings.hpp"
 
 namespace fieldlidar::app {
@@ -29,38 +39,10 @@ namespace {
 namespace fs = std::filesystem;
 
 struct TraversabilityOptions {
-  std::string input, out, sensor, mode = "trinary";
+  std::string input, out, sensor, mode = "trinary", poses, robot;
   double cell_m = 0;  ///< 0: 0.5 m for a sweep, from the point density for a survey
   bool force = false;
 };
-
-// tau 0 red, 1 green; impassable black, unknown grey.
-Rgb cell_colour(float tau, bool impassable) {
-  if (!std::isfinite(tau)) return {0.6, 0.6, 0.6};
-  if (impassable) return {0, 0, 0};
-  const double t = std::clamp(double(tau), 0.0, 1.0);
-  return {std::min(1.0, 2.0 * (1.0 - t)), std::min(1.0, 2.0 * t), 0.1};
-}
-
-void draw(const Grid2D& map, const std::string& title, const fs::path& path, bool force) {
-  const GridGeometry& g = map.geometry();
-  const Eigen::Vector2d size(g.width * g.resolution_m, g.height * g.resolution_m);
-  TopDownCanvas canvas(g.origin_m, g.origin_m + size, 1000);
-  const auto tau = map.layer(terrain::layer::kTraversability);
-  const auto impassable = map.layer(terrain::layer::kImpassable);
-  for (int iy = 0; iy < g.height; ++iy)
-    for (int ix = 0; ix < g.width; ++ix) {
-      const std::size_t i = g.linear_index(ix, iy);
-      canvas.cell(g, ix, iy, cell_colour(tau[i], impassable[i] > 0.5f));
-    }
-  canvas.title(title);
-  canvas.legend({{"best (tau 1)", cell_colour(1.0f, false)},
-                 {"poor (tau 0.5)", cell_colour(0.5f, false)},
-                 {"worst passable (tau 0)", cell_colour(0.0f, false)},
-                 {"impassable", cell_colour(0.0f, true)},
-                 {"unknown", cell_colour(NAN, false)}});
-  canvas.save_png(path, force);
-}
 
 // A survey's cell holds about 8 returns on average (an airborne tile of ~1 point/m2 gets ~3 m
 // cells, where 0.5 m cells would be nearly all unknown), never below `least_m`, in 0.5 m steps.
@@ -84,36 +66,164 @@ Grid2D placed_tau(const Grid2D& map, const Eigen::Vector3d& origin_m) {
   return out;
 }
 
+/// A KITTI poses file (one pose per frame, by index) or else a TUM file (by stamp).
+Trajectory read_poses(const std::string& path, bool& by_index) {
+  try {
+    by_index = true;
+    return io::read_kitti_poses(path);
+  } catch (const Error& kitti) {
+    try {
+      by_index = false;
+      return io::read_tum(path);
+    } catch (const Error& tum) {
+      throw Error("--poses " + path + ": neither KITTI (" + kitti.what() + ") nor TUM (" +
+                  tum.what() + ")");
+    }
+  }
+}
+
+struct SequenceResult {
+  Grid2D map;
+  std::size_t frames = 0, skipped = 0;
+  std::string placed_by, sensor;
+  Trajectory path;
+  double update_ms = 0;  ///< map updates only (segmentation included), summed
+};
+
+/// Every frame of a sequence (a folder, glob, pcap, bag, or a simulator folder's pcd/) fused into
+/// one map, placed by the poses file or else by the lidar odometry (first scan's frame).
+SequenceResult map_sequence(const TraversabilityOptions& o,
+                            const terrain::TraversabilityConfig& cfg) {
+  fs::path input(o.input);
+  std::vector<double> times;
+  if (fs::is_directory(input) && fs::is_directory(input / "pcd")) {
+    if (fs::exists(input / "times.txt")) times = io::read_kitti_times(input / "times.txt");
+    input = input / "pcd";
+  }
+  SequenceResult r;
+  bool by_index = true;
+  Trajectory poses;
+  if (!o.poses.empty()) poses = read_poses(o.poses, by_index);
+  r.placed_by = o.poses.empty() ? "lidar odometry (first scan's frame)" : o.poses;
+  terrain::FusionConfig fusion;
+  fusion.layers = cfg;
+  terrain::TerrainMap map(fusion);
+  auto source = io::FrameSource::open(input);
+  std::unique_ptr<odometry::LidarOdometry> odo;
+  std::optional<SensorModel> sensor;
+  double last_stamp = -1e300;
+  while (auto frame = source->next()) {
+    PointCloud& cloud = frame->cloud;
+    if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
+    if (!sensor) {
+      sensor = source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
+      r.sensor = sensor->name;
+    }
+    if (times.empty() && cloud.stamp_s <= 0 && frame->index > 0)
+      cloud.stamp_s = frame->index * sensor->sweep_period_s();
+    std::optional<Pose> T;
+    if (!o.poses.empty()) {
+      if (by_index && frame->index >= poses.size())
+        throw Error(fmt::format("--poses {}: {} poses, but frame {} of {} has none", o.poses,
+                                poses.size(), frame->index, o.input));
+      T = by_index ? std::optional<Pose>(poses[frame->index].pose) : poses.at(cloud.stamp_s);
+    } else {
+      if (!odo) {
+        odometry::OdometryConfig ocfg;
+        ocfg.expected_period_s = sensor->sweep_period_s();
+        odo = std::make_unique<odometry::LidarOdometry>(*sensor, ocfg);
+      }
+      T = odo->register_frame(cloud).T_world_lidar;
+    }
+    if (!T) {  // a TUM trajectory that does not cover this frame's stamp
+      ++r.skipped;
+      continue;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    map.add_scan(cloud, *sensor, *T);
+    r.update_ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    ++r.frames;
+    const double stamp = cloud.stamp_s > last_stamp ? cloud.stamp_s : last_stamp + 1e-6;
+    last_stamp = stamp;
+    r.path.push_back(stamp, *T);
+    if (frame->index % 20 == 0)
+      fmt::print(stderr, "\rframe {} ({:.0f} %)   ", frame->index, 100 * source->progress());
+  }
+  fmt::print(stderr, "\n");
+  if (r.frames == 0)
+    throw Error(o.input + ": no frame could be placed" +
+                (o.poses.empty() ? std::string() : " by --poses " + o.poses));
+  r.map = map.global_map();
+  return r;
+}
+
+void write_geotiffs(const Grid2D& map, const Eigen::Vector3d& origin_m, const fs::path& dir,
+                    bool force) {
+  fs::create_directories(dir);
+  io::GeoTiffConfig gt;
+  gt.origin_offset_m = origin_m.head<2>();
+  for (const std::string& name : map.layer_names())
+    io::write_file_atomic(dir / (name + ".tif"), io::encode_geotiff(map, name, gt), force);
+}
+
 void run(const TraversabilityOptions& o) {
   const fs::path out(o.out);
   const std::vector<std::string> names = {"traversability.yaml", "traversability.pgm",
                                           "traversability.png", "summary.json"};
   if (fs::exists(out) && !fs::is_directory(out))
     throw Error("traversability: --out " + o.out + " is not a folder");
+  terrain::TraversabilityConfig cfg;
+  if (!o.robot.empty()) cfg.robot = terrain::load_robot_config(o.robot);
   fs::create_directories(out);
   for (const auto& n : names) io::check_writable(out / n, o.force, {fs::path(o.input)});
-  const PointCloud cloud = io::read_cloud(o.input);
-  if (cloud.valid_count() == 0)
-    throw Error(o.input + ": no valid point (" + std::to_string(cloud.size()) +
-                " points): nothing to map");
 
-  const auto t0 = std::chrono::steady_clock::now();
-  const segmentation::SweepCheck check = segmentation::check_sweep(cloud);
-  const bool sweep = check.sweep || !o.sensor.empty();
-  terrain::TraversabilityConfig cfg;
+  // A sequence: a folder, a glob, a capture, or any input with --poses.
+  const fs::path in(o.input);
+  const std::string ext = in.extension().string();
+  const bool sequence = !o.poses.empty() || fs::is_directory(in) ||
+                        o.input.find('*') != std::string::npos || ext == ".pcap" || ext == ".bag";
   Grid2D map;
-  std::string sensor_name;
-  cfg.cell_m = o.cell_m > 0 ? o.cell_m : sweep ? cfg.cell_m : survey_cell_m(cloud, cfg.cell_m);
-  if (sweep) {
-    const SensorModel sensor = sensor_for(cloud, o.input, o.sensor);
-    sensor_name = sensor.name;
-    map = terrain::map_scan(cloud, sensor, Pose::Identity(), cfg);
+  PointCloud cloud;
+  nlohmann::json j;
+  j["file"] = o.input;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string what;
+  if (sequence) {
+    if (o.cell_m > 0) cfg.cell_m = o.cell_m;
+    SequenceResult r = map_sequence(o, cfg);
+    map = std::move(r.map);
+    j["input"] = "sequence";
+    j["sensor"] = r.sensor;
+    j["frames"] = r.frames;
+    j["frames_without_pose"] = r.skipped;
+    j["placed_by"] = r.placed_by;
+    j["path_length_m"] = r.path.path_length_m();
+    j["map_update_ms_per_frame"] = r.update_ms / double(r.frames);
+    what = fmt::format("{} frames fused, {}", r.frames, r.sensor);
   } else {
-    warn(
-        fmt::format("{}: not one sensor sweep ({}); mapped as a survey of the whole area (give "
-                    "--sensor for a sweep)",
-                    o.input, check.reason));
-    map = terrain::map_area(cloud, cfg);
+    cloud = io::read_cloud(o.input);
+    if (cloud.valid_count() == 0)
+      throw Error(o.input + ": no valid point (" + std::to_string(cloud.size()) +
+                  " points): nothing to map");
+    const segmentation::SweepCheck check = segmentation::check_sweep(cloud);
+    const bool sweep = check.sweep || !o.sensor.empty();
+    cfg.cell_m = o.cell_m > 0 ? o.cell_m : sweep ? cfg.cell_m : survey_cell_m(cloud, cfg.cell_m);
+    if (sweep) {
+      const SensorModel sensor = sensor_for(cloud, o.input, o.sensor);
+      j["sensor"] = sensor.name;
+      map = terrain::map_scan(cloud, sensor, Pose::Identity(), cfg);
+      what = "sweep, " + sensor.name;
+    } else {
+      warn(
+          fmt::format("{}: not one sensor sweep ({}); mapped as a survey of the whole area (give "
+                      "--sensor for a sweep)",
+                      o.input, check.reason));
+      map = terrain::map_area(cloud, cfg);
+      what = "survey";
+    }
+    j["input"] = sweep ? "sweep" : "survey";
+    j["points"] = cloud.size();
   }
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -124,25 +234,28 @@ void run(const TraversabilityOptions& o) {
       io::encode_nav2_map(placed_tau(map, cloud.origin_m), "tau", "traversability.pgm", nav);
   io::write_file_atomic(out / "traversability.pgm", nav2.pgm, o.force);
   io::write_file_atomic(out / "traversability.yaml", nav2.yaml, o.force);
-  draw(map,
-       fmt::format("{}: traversability, {} m cells", fs::path(o.input).filename().string(),
-                   map.geometry().resolution_m),
-       out / "traversability.png", o.force);
+  write_geotiffs(map, cloud.origin_m, out / "layers", o.force);
+  draw_terrain_map(
+      map, cfg.robot,
+      fmt::format("{}: traversability, {} m cells ({})", fs::path(o.input).filename().string(),
+                  map.geometry().resolution_m, what),
+      out / "traversability.png", o.force);
 
   const GridGeometry& g = map.geometry();
   const auto tau = map.layer(terrain::layer::kTraversability);
   const auto impassable = map.layer(terrain::layer::kImpassable);
   std::size_t known = 0, blocked = 0;
   for (std::size_t i = 0; i < tau.size(); ++i) {
-    if (!std::isfinite(tau[i])) continue;
+    if (!std::isfinite(impassable[i])) continue;
     ++known;
-    if (impassable[i] > 0.5f || tau[i] <= 0.0f) ++blocked;
+    if (impassable[i] > 0.5f || !(tau[i] > 0.0f)) ++blocked;
   }
-  nlohmann::json j;
-  j["file"] = o.input;
-  j["input"] = sweep ? "sweep" : "survey";
-  j["sensor"] = sweep ? nlohmann::json(sensor_name) : nlohmann::json(nullptr);
-  j["points"] = cloud.size();
+  j["robot"] = {{"length_m", cfg.robot.length_m},
+                {"width_m", cfg.robot.width_m},
+                {"max_slope_deg", cfg.robot.max_slope_deg},
+                {"max_step_m", cfg.robot.max_step_m},
+                {"clearance_m", cfg.robot.clearance_m},
+                {"min_obstacle_height_m", cfg.robot.min_obstacle_height_m}};
   j["resolution_m"] = g.resolution_m;
   j["width_cells"] = g.width;
   j["height_cells"] = g.height;
@@ -155,23 +268,33 @@ void run(const TraversabilityOptions& o) {
   j["time_ms"] = ms;
   io::write_file_atomic(out / "summary.json", j.dump(1) + "\n", o.force);
   fmt::print(
-      "{}: {} points ({}), {} x {} cells of {} m: {} known ({:.1f} %), {} passable, {} "
-      "impassable, {:.0f} ms -> {}\n",
-      o.input, cloud.size(), sweep ? "sweep, " + sensor_name : std::string("survey"), g.width,
-      g.height, g.resolution_m, known, 100.0 * j["coverage"].get<double>(), known - blocked,
-      blocked, ms, out.string());
+      "{}: {}: {} x {} cells of {} m: {} known ({:.1f} %), {} passable, {} impassable, {:.0f} ms "
+      "-> {}\n",
+      o.input, what, g.width, g.height, g.resolution_m, known, 100.0 * j["coverage"].get<double>(),
+      known - blocked, blocked, ms, out.string());
 }
-
 }  // namespace
 
 void add_traversability_command(CLI::App& app) {
   auto o = std::make_shared<TraversabilityOptions>();
   auto* cmd = app.add_subcommand(
       "traversability",
-      "Where a ground robot can drive: traversability map of one scan or survey file (nav2 "
-      "map, PNG, summary)");
-  cmd->add_option("INPUT", o->input, "Scan or survey file (.pcd, .las, .ply, .bin)")->required();
-  cmd->add_option("--out", o->out, "Output folder (traversability.yaml/.pgm/.png, summary.json)")
+      "Where a ground robot can drive: traversability map of one scan, a survey file or a "
+      "sequence fused over time (nav2 map, GeoTIFF layers, PNG, summary)");
+  cmd->add_option("INPUT", o->input,
+                  "Scan or survey file (.pcd, .las, .ply, .bin), or a sequence (folder, glob, "
+                  "pcap, bag, simulator folder) fused over time")
+      ->required();
+  cmd->add_option("--poses", o->poses,
+                  "Poses of the sequence's frames (KITTI: one per frame, e.g. a simulator "
+                  "folder's poses.txt; or TUM, by stamp); default: the lidar odometry")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--robot", o->robot,
+                  "Robot config YAML (length_m, width_m, max_slope_deg, max_step_m, "
+                  "clearance_m, min_obstacle_height_m); default: the seed's 0.93 x 0.58 m robot")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--out", o->out,
+                  "Output folder (traversability.yaml/.pgm/.png, layers/*.tif, summary.json)")
       ->required();
   cmd->add_option("--sensor", o->sensor,
                   "Sensor preset: map INPUT as one sweep of it (default: a sweep's from its "

@@ -130,6 +130,48 @@ TEST(CliTraversability, SimulatedTerrainFrameAndRefusesToOverwrite) {
       1);
 }
 
+TEST(CliTraversability, SequenceFusedWithPosesRobotConfigAndGeoTiffs) {
+  const auto dir = temp_dir("cli_traversability_seq");
+  const auto sim = dir / "sim", out = dir / "out";
+  const auto s =
+      run_cli(args({"simulate", "--scene", "terrain", "--frames", "20", "--out", quoted(sim)}));
+  ASSERT_EQ(s.exit_code, 0) << s.output;
+  {
+    std::ofstream robot(dir / "robot.yaml");
+    robot << "robot:\n  length_m: 1.0\n  width_m: 0.6\n  max_slope_deg: 20\n";
+  }
+  const auto r = run_cli(args({"traversability", quoted(sim), "--poses", quoted(sim / "poses.txt"),
+                               "--robot", quoted(dir / "robot.yaml"), "--out", quoted(out)}));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = check_outputs(out);
+  EXPECT_EQ(j["input"], "sequence");
+  EXPECT_EQ(j["frames"], 20);
+  EXPECT_DOUBLE_EQ(j["robot"]["max_slope_deg"].get<double>(), 20.0);
+  EXPECT_GT(j["cells_known"].get<int>(), 500);  // 727 measured (2 s of driving)
+  for (const char* layer : {"slope_deg", "roughness_m", "impassable", "traversability",
+                            "elevation_m", "obstacle_2d", "step_m", "points"}) {
+    const auto tif = out / "layers" / (std::string(layer) + ".tif");
+    ASSERT_TRUE(fs::exists(tif)) << tif;
+    EXPECT_EQ(slurp(tif).substr(0, 4), std::string("II*\0", 4)) << tif;
+  }
+  // Without --poses the lidar odometry places the frames (the first scan's frame).
+  const auto o = run_cli(args({"traversability", quoted(sim), "--out", quoted(dir / "odo")}));
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  const auto jo = nlohmann::json::parse(slurp(dir / "odo" / "summary.json"));
+  EXPECT_EQ(jo["frames"], 20);
+  EXPECT_NE(jo["placed_by"].get<std::string>().find("odometry"), std::string::npos);
+  EXPECT_GT(jo["cells_known"].get<int>(), 500);
+  // An absurd robot is refused before any work, naming the field.
+  {
+    std::ofstream robot(dir / "absurd.yaml");
+    robot << "width_m: 300\n";
+  }
+  const auto bad = run_cli(args({"traversability", quoted(sim), "--robot",
+                                 quoted(dir / "absurd.yaml"), "--out", quoted(dir / "o3")}));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("width_m = 300 is absurd"), std::string::npos) << bad.output;
+}
+
 TEST(CliTraversability, AirborneSurveyIsMappedAsAnArea) {
   FIELDLIDAR_REQUIRE_DATA("terrain_als/Topography.las");
   const auto dir = temp_dir("cli_traversability_als");

@@ -1,0 +1,103 @@
+#pragma once
+/// \file The traversability map fused over time (issue 16, item 3): scans placed by the robot's
+/// poses update per-cell sufficient statistics, and only the cells a scan touched (and the cells
+/// whose voxel window holds them) get their layers recomputed. A rolling local map around the
+/// robot and the global map of the whole drive are views of the same cells.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "fieldlidar/core/grid2d.hpp"
+#include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/core/pose.hpp"
+#include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/terrain/traversability.hpp"
+
+namespace fieldlidar::terrain {
+
+/// How scans are fused. The layers use `layers` (robot, cell, range, ground segmentation,
+/// weights a and b of tau).
+///
+/// Per cell the map keeps the count, sum and sum of squares of its ground returns (relative to
+/// the cell's centre), so the plane of a voxel window is the sum of its cells' statistics: a cell
+/// seen from several places gets more returns and a better plane. Obstacles are evidence in
+/// log-odds: a scan with `min_obstacle_points` returns between the robot's min_obstacle_height and
+/// clearance above the cell's ground adds `hit_log_odds`; a scan that sees
+/// `min_free_ground_points` ground returns in the cell and no such return adds `miss_log_odds`
+/// (negative), and so does a scan whose ray crosses the cell between min_obstacle_height and the
+/// cell's obstacle top without ending there (seen through), so a person who walked through leaves
+/// no obstacle once the ground there is seen again or seen past. A scan that hits the cell wins
+/// over one that sees through it. A cell is an obstacle while its log-odds is above 0.
+struct FusionConfig {
+  TraversabilityConfig layers;
+  double local_side_m = 40.0;  ///< side of the rolling local map around the last sensor position
+  float hit_log_odds = 0.85f;
+  float miss_log_odds = -0.7f;
+  float min_log_odds = -2.0f;
+  float max_log_odds = 3.5f;
+  int min_free_ground_points = 3;
+  /// Every n-th return's ray is traced for see-through evidence (0: none).
+  int see_through_stride = 4;
+  /// Non-ground returns more than the robot's max step below the cell's ground (a pit's or
+  /// ditch's wall seen over its rim) are obstacle evidence too.
+  bool pit_evidence = true;
+  /// A cell is called passable only when every cell of its voxel window (the robot's footprint)
+  /// was seen; else it stays unknown (a shadow behind a rock or inside a pit is no free ground).
+  bool passable_needs_full_window = true;
+  /// An obstacle's 4 neighbour cells are impassable too (its footprint is larger than the
+  /// returns on it show: the low rim of a rock, the far side of a bush).
+  bool obstacle_halo = true;
+  /// The planes give the mean slope over a cell or window, the robot tips on the steepest part:
+  /// ground steeper than max_slope_deg - slope_margin_deg is a 2D obstacle.
+  double slope_margin_deg = 3.0;
+  int min_ground_points = 3;  ///< fused ground returns of its own for a cell to be known
+  /// A cell's own plane gives its slope once it holds this many ground returns (else the voxel
+  /// window's plane does).
+  int min_own_plane_points = 40;
+  /// The step over the voxel window: range of the cells' mean offsets from the plane, each widened
+  /// by this many standard deviations of its returns about the plane.
+  double step_sigmas = 1.0;
+};
+
+/// What one scan did to the map.
+struct FusionUpdate {
+  std::size_t points = 0;         ///< valid returns within range
+  std::size_t ground_points = 0;  ///< of which ground
+  std::size_t cells_touched = 0;  ///< cells holding one of its returns
+  std::size_t cells_updated = 0;  ///< cells whose layers were recomputed
+};
+
+class TerrainMap {
+ public:
+  /// Raises fieldlidar::Error on an absurd robot or config.
+  explicit TerrainMap(FusionConfig config = {});
+  ~TerrainMap();
+  TerrainMap(TerrainMap&&) noexcept;
+  TerrainMap& operator=(TerrainMap&&) noexcept;
+
+  /// One scan in its lidar frame at pose T_map_lidar: ground segmentation, then add_points.
+  /// Empty or all-invalid scans change nothing.
+  FusionUpdate add_scan(const PointCloud& scan, const SensorModel& sensor, const Pose& T_map_lidar);
+  /// Returns already in the map frame (z up) with their ground flags, seen from sensor_m.
+  /// Non-finite points are skipped.
+  FusionUpdate add_points(std::span<const Eigen::Vector3d> points_m,
+                          std::span<const std::uint8_t> is_ground, const Eigen::Vector3d& sensor_m);
+
+  /// The layers (names of terrain::layer, NaN = unknown) on a square of side side_m centred on
+  /// center_m, cells on multiples of the cell side.
+  Grid2D local_map(const Eigen::Vector2d& center_m, double side_m) const;
+  /// The rolling local map: local_side_m around the last scan's sensor.
+  Grid2D local_map() const;
+  /// Every cell seen so far (an empty grid before the first scan).
+  Grid2D global_map() const;
+
+  std::size_t scans() const;
+  const FusionConfig& config() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace fieldlidar::terrain

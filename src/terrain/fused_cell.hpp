@@ -1,0 +1,144 @@
+#pragma once
+/// \file The per-cell state of the fused map: sufficient statistics of the ground returns, the
+/// obstacle evidence, and the layers last derived from them; cells kept in 32 x 32 tiles
+/// allocated where scans land.
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <unordered_map>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/terrain/terrain_map.hpp"
+
+namespace fieldlidar::terrain::detail {
+
+/// Count, sum and sum of squares of 3D points: their mean and covariance, and the same of a union
+/// of sets once each is shifted into a common frame.
+struct PlaneSums {
+  double n = 0;
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+
+  void add(const Eigen::Vector3d& p) {
+    n += 1;
+    s += p;
+    S += p * p.transpose();
+  }
+  /// Adds `o`, whose points are `offset` away from this frame (p_here = p_there + offset).
+  void add_shifted(const PlaneSums& o, const Eigen::Vector3d& offset) {
+    n += o.n;
+    s += o.s + o.n * offset;
+    S += o.S + o.s * offset.transpose() + offset * o.s.transpose() +
+         o.n * offset * offset.transpose();
+  }
+  Eigen::Vector3d mean() const { return s / n; }
+  Eigen::Matrix3d covariance() const {
+    const Eigen::Vector3d m = mean();
+    return S / n - m * m.transpose();
+  }
+};
+
+/// The order of the derived layers in FusedCell::layers (names in terrain::layer).
+enum LayerIndex {
+  kNx,
+  kNy,
+  kNz,
+  kSlope,
+  kRough,
+  kRoughSum,
+  kStep,
+  kObst2d,
+  kProj,
+  kImpass,
+  kTau,
+  kElev,
+  kLayerCount
+};
+inline constexpr std::array<const char*, kLayerCount> kLayerNames = {
+    layer::kNormalX,           layer::kNormalY,      layer::kNormalZ,        layer::kSlopeDeg,
+    layer::kRoughness,         layer::kRoughnessSum, layer::kStep,           layer::kObstacle2d,
+    layer::kObstacleProjected, layer::kImpassable,   layer::kTraversability, layer::kElevation};
+
+struct FusedCell {
+  PlaneSums ground;  ///< ground returns relative to (cell centre x, y, z_ref)
+  float z_ref = std::numeric_limits<float>::quiet_NaN();  ///< z of the first ground return
+  float log_odds = 0.0f;                                  ///< obstacle evidence
+  float obstacle_top_m = 0.0f;  ///< highest obstacle return above the ground while it holds
+  std::uint32_t returns = 0;    ///< every return that fell in the cell
+  std::array<float, kLayerCount> layers;
+  /// ground.mean() and ground.covariance(), refreshed when ground returns are added.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+
+  FusedCell() { layers.fill(std::numeric_limits<float>::quiet_NaN()); }
+  void refresh_moments() {
+    mean = ground.mean();
+    covariance = ground.covariance();
+  }
+};
+
+/// Cells by integer index (ix, iy) = floor(xy / cell side), in tiles made on first write.
+class CellStore {
+ public:
+  static constexpr int kTile = 32;
+
+  FusedCell* find(int ix, int iy) {
+    auto it = tiles_.find(key(ix, iy));
+    return it == tiles_.end() ? nullptr : &(*it->second)[slot(ix, iy)];
+  }
+  const FusedCell* find(int ix, int iy) const {
+    auto it = tiles_.find(key(ix, iy));
+    return it == tiles_.end() ? nullptr : &(*it->second)[slot(ix, iy)];
+  }
+  FusedCell& get(int ix, int iy) {
+    auto& tile = tiles_[key(ix, iy)];
+    if (!tile) tile = std::make_unique<Tile>();
+    if (empty_) lo_ = hi_ = Eigen::Vector2i(ix, iy), empty_ = false;
+    lo_ = lo_.cwiseMin(Eigen::Vector2i(ix, iy));
+    hi_ = hi_.cwiseMax(Eigen::Vector2i(ix, iy));
+    return (*tile)[slot(ix, iy)];
+  }
+  bool empty() const { return empty_; }
+  /// Smallest and largest cell index written.
+  Eigen::Vector2i lo() const { return lo_; }
+  Eigen::Vector2i hi() const { return hi_; }
+
+ private:
+  using Tile = std::array<FusedCell, kTile * kTile>;
+  static int floor_div(int a) { return a >= 0 ? a / kTile : -((-a + kTile - 1) / kTile); }
+  static std::int64_t key(int ix, int iy) {
+    return (std::int64_t(floor_div(ix)) << 32) ^ std::int64_t(std::uint32_t(floor_div(iy)));
+  }
+  static int slot(int ix, int iy) {
+    return (iy - floor_div(iy) * kTile) * kTile + (ix - floor_div(ix) * kTile);
+  }
+  std::unordered_map<std::int64_t, std::unique_ptr<Tile>> tiles_;
+  Eigen::Vector2i lo_ = Eigen::Vector2i::Zero(), hi_ = Eigen::Vector2i::Zero();
+  bool empty_ = true;
+};
+
+/// What one scan saw in one cell.
+struct ScanCell {
+  FusedCell* cell = nullptr;
+  std::uint32_t returns = 0, ground = 0, raised = 0;
+  float low_ground = std::numeric_limits<float>::infinity();
+  float top_m = 0.0f;         ///< highest obstacle return above the ground
+  bool seen_through = false;  ///< a ray crossed the cell's obstacle volume and ended beyond
+};
+
+/// The cells of the scan's window (w x h from cell index lo) that hold obstacle evidence and that
+/// a return's ray (every `stride`-th, from sensor_m) crossed between min_obstacle_height and the
+/// obstacle's top above the cell's ground without ending there: seen_through is set.
+void mark_seen_through(std::span<ScanCell> local, const Eigen::Vector2i& lo, int w, int h,
+                       std::span<const Eigen::Vector3d> points_m, const Eigen::Vector3d& sensor_m,
+                       int stride, const FusionConfig& config);
+
+/// Recomputes the layers of cell (ix, iy) from its statistics and its voxel window's (`half`
+/// cells each side; a no-op for a cell never written).
+void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig& config);
+
+}  // namespace fieldlidar::terrain::detail

@@ -1,0 +1,147 @@
+/// The layers of one fused cell from the sufficient statistics of its voxel window: the window's
+/// ground plane (slope, 2D obstacle), the step over the window and the cell's roughness about the
+/// plane, the obstacle evidence, then tau.
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include <Eigen/Eigenvalues>
+
+#include "fused_cell.hpp"
+
+namespace fieldlidar::terrain::detail {
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+/// Unit normal (z >= 0) of the plane of a set's covariance.
+Eigen::Vector3d plane_normal(const PlaneSums& sums) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(sums.covariance());  // closed form: 3 x 3, many cells per scan
+  Eigen::Vector3d n = eig.eigenvectors().col(0);
+  return n.z() < 0 ? Eigen::Vector3d(-n) : n;
+}
+
+double slope_deg(const Eigen::Vector3d& normal) {
+  return std::acos(std::clamp(normal.z(), -1.0, 1.0)) / kDeg;
+}
+
+/// Offset from cell (ix, iy)'s frame (its centre, its z_ref) to (jx, jy)'s.
+Eigen::Vector3d offset(double cell_m, int dx, int dy, float z_ref_to, float z_ref_from) {
+  return {dx * cell_m, dy * cell_m, double(z_ref_from) - double(z_ref_to)};
+}
+
+/// The steepest rise between the cell's mean ground return and a neighbour's (deg): a wall, a
+/// pit's rim or a ditch's edge sharper than the voxel plane shows.
+double edge_slope_deg(const CellStore& store, int ix, int iy, const FusionConfig& config) {
+  const FusedCell& cell = *store.find(ix, iy);
+  const double cm = config.layers.cell_m;
+  const Eigen::Vector3d& mean = cell.mean;
+  double steepest = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const FusedCell* q = store.find(ix + dx, iy + dy);
+      if ((dx == 0 && dy == 0) || !q || q->ground.n < config.min_ground_points) continue;
+      const Eigen::Vector3d d = q->mean + offset(cm, dx, dy, cell.z_ref, q->z_ref) - mean;
+      const double run = std::max(0.25 * cm, d.head<2>().norm());
+      steepest = std::max(steepest, std::atan(std::abs(d.z()) / run) / kDeg);
+    }
+  return steepest;
+}
+
+/// Every cell of the voxel window holds ground returns of its own or obstacle evidence.
+bool window_seen(const CellStore& store, int ix, int iy, int half, const FusionConfig& config) {
+  for (int dy = -half; dy <= half; ++dy)
+    for (int dx = -half; dx <= half; ++dx) {
+      const FusedCell* q = store.find(ix + dx, iy + dy);
+      if (!q || (q->ground.n < config.min_ground_points && q->log_odds <= 0.0f)) return false;
+    }
+  return true;
+}
+
+}  // namespace
+
+void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig& config) {
+  FusedCell* cell = store.find(ix, iy);
+  if (!cell) return;
+  const TraversabilityConfig& c = config.layers;
+  auto& L = cell->layers;
+  L.fill(kNaN);
+  const bool own_obstacle = cell->log_odds > 0.0f;
+  bool obstacle = own_obstacle;
+  if (config.obstacle_halo)  // an obstacle's rim: its 4 neighbours block too
+    for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+      const FusedCell* q = store.find(ix + dx, iy + dy);
+      obstacle = obstacle || (q && q->log_odds > 0.0f);
+    }
+  const bool ground_known = cell->ground.n >= config.min_ground_points;
+
+  // The voxel window's ground statistics in this cell's frame.
+  PlaneSums window;
+  if (ground_known) {
+    for (int dy = -half; dy <= half; ++dy)
+      for (int dx = -half; dx <= half; ++dx) {
+        const FusedCell* q = store.find(ix + dx, iy + dy);
+        if (!q || q->ground.n <= 0) continue;
+        window.add_shifted(q->ground, offset(c.cell_m, dx, dy, cell->z_ref, q->z_ref));
+      }
+  }
+  if (!ground_known || window.n < c.min_voxel_points) {
+    if (obstacle) {  // obstacle returns seen, ground not (enough): impassable all the same
+      L[kProj] = L[kImpass] = 1.0f;
+      L[kTau] = 0.0f;
+    }
+    return;
+  }
+  const Eigen::Vector3d centroid = window.mean();
+  const Eigen::Vector3d window_normal = plane_normal(window);
+  const bool own_plane = cell->ground.n >= config.min_own_plane_points;
+  const Eigen::Vector3d normal = own_plane ? plane_normal(cell->ground) : window_normal;
+  const double rho = slope_deg(normal);
+  const bool too_steep =
+      std::max({rho, slope_deg(window_normal), edge_slope_deg(store, ix, iy, config)}) >
+      c.robot.max_slope_deg - config.slope_margin_deg;
+
+  // Step over the window about the window's plane; roughness of the cell's own returns.
+  double lo = 0, hi = 0, rough = 0;
+  bool first = true;
+  for (int dy = -half; dy <= half; ++dy)
+    for (int dx = -half; dx <= half; ++dx) {
+      const FusedCell* q = store.find(ix + dx, iy + dy);
+      if (!q || q->ground.n <= 0) continue;
+      const Eigen::Vector3d mean = q->mean + offset(c.cell_m, dx, dy, cell->z_ref, q->z_ref);
+      const double d = window_normal.dot(mean - centroid);
+      const double var = std::max(0.0, window_normal.dot(q->covariance * window_normal));
+      const double sd = config.step_sigmas * std::sqrt(var);
+      lo = first ? d - sd : std::min(lo, d - sd);
+      hi = first ? d + sd : std::max(hi, d + sd);
+      first = false;
+      if (dx == 0 && dy == 0) rough = std::sqrt(var + d * d);
+    }
+  const double step = hi - lo;
+  const double plane_z = centroid.z() - (window_normal.x() * (0.0 - centroid.x()) +
+                                         window_normal.y() * (0.0 - centroid.y())) /
+                                            std::max(0.05, window_normal.z());
+
+  L[kNx] = float(normal.x());
+  L[kNy] = float(normal.y());
+  L[kNz] = float(normal.z());
+  L[kSlope] = float(rho);
+  L[kRough] = float(rough);
+  L[kRoughSum] = float(rough * cell->ground.n);
+  L[kStep] = float(step);
+  L[kObst2d] = too_steep ? 1.0f : 0.0f;
+  L[kProj] = own_obstacle ? 1.0f : 0.0f;
+  L[kElev] = float(plane_z + cell->z_ref);
+  const bool blocked = too_steep || step > c.robot.max_step_m || obstacle;
+  if (!blocked && config.passable_needs_full_window && !window_seen(store, ix, iy, half, config))
+    return;  // part of the robot's footprint unseen (a shadow: behind a rock, inside a pit)
+  L[kImpass] = blocked ? 1.0f : 0.0f;
+  L[kTau] = blocked ? 0.0f
+                    : float(std::clamp(1.0 - c.weight_slope * rho / c.robot.max_slope_deg -
+                                           c.weight_roughness * rough / (c.robot.max_step_m / 2),
+                                       0.0, 1.0));
+}
+
+}  // namespace fieldlidar::terrain::detail

@@ -1,0 +1,228 @@
+/// Scans into the fused map: per scan, the returns binned on a window of cells around the sensor,
+/// ground returns added to their cells' statistics, obstacle evidence per cell, then the layers of
+/// the touched cells and their voxel windows recomputed.
+#include "fieldlidar/terrain/terrain_map.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/terrain/robot_config.hpp"
+#include "fused_cell.hpp"
+
+namespace fieldlidar::terrain {
+
+using detail::CellStore;
+using detail::FusedCell;
+using detail::ScanCell;
+
+struct TerrainMap::Impl {
+  FusionConfig config;
+  CellStore store;
+  std::size_t scans = 0;
+  Eigen::Vector3d last_sensor_m = Eigen::Vector3d::Zero();
+};
+
+namespace {
+
+int cell_index(double v, double cell_m) {
+  return int(std::floor(v / cell_m));
+}
+
+/// The layers of the w x h cells from index lo on, as a Grid2D (cells never written unknown).
+Grid2D copy_cells(const CellStore& store, const Eigen::Vector2i& lo, int w, int h, double cm) {
+  GridGeometry g{.resolution_m = cm, .origin_m = lo.cast<double>() * cm, .width = w, .height = h};
+  Grid2D map(g);
+  std::array<std::span<float>, detail::kLayerCount> layers;
+  for (int i = 0; i < detail::kLayerCount; ++i)
+    layers[i] = map.add_layer(detail::kLayerNames[i], std::numeric_limits<float>::quiet_NaN());
+  auto points = map.add_layer(layer::kPoints, 0.0f);
+  for (int iy = 0; iy < h; ++iy)
+    for (int ix = 0; ix < w; ++ix) {
+      const FusedCell* cell = store.find(lo.x() + ix, lo.y() + iy);
+      if (!cell) continue;
+      const std::size_t k = g.linear_index(ix, iy);
+      for (int i = 0; i < detail::kLayerCount; ++i) layers[i][k] = cell->layers[i];
+      points[k] = float(cell->returns);
+    }
+  return map;
+}
+
+}  // namespace
+
+TerrainMap::TerrainMap(FusionConfig config) : impl_(std::make_unique<Impl>()) {
+  check_robot_config(config.layers.robot, "terrain fusion: robot");
+  voxel_height_m(config.layers);  // and the cell
+  if (!(config.local_side_m > 0 && config.local_side_m <= 1e4))
+    throw Error("terrain fusion: local_side_m = " + std::to_string(config.local_side_m) +
+                " is outside (0, 10000]");
+  if (!(config.hit_log_odds > 0 && config.miss_log_odds < 0 && config.min_log_odds < 0 &&
+        config.max_log_odds > 0))
+    throw Error(
+        "terrain fusion: hit_log_odds and max_log_odds must be > 0, miss_log_odds and "
+        "min_log_odds < 0");
+  impl_->config = config;
+}
+TerrainMap::~TerrainMap() = default;
+TerrainMap::TerrainMap(TerrainMap&&) noexcept = default;
+TerrainMap& TerrainMap::operator=(TerrainMap&&) noexcept = default;
+
+std::size_t TerrainMap::scans() const {
+  return impl_->scans;
+}
+const FusionConfig& TerrainMap::config() const {
+  return impl_->config;
+}
+
+FusionUpdate TerrainMap::add_scan(const PointCloud& scan, const SensorModel& sensor,
+                                  const Pose& T_map_lidar) {
+  const TraversabilityConfig& c = impl_->config.layers;
+  const Eigen::Vector3d sensor_m = T_map_lidar.translation();
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::uint8_t> ground;
+  if (scan.valid_count() > 0) {
+    const auto g = segmentation::segment_ground(scan, sensor, c.ground);
+    pts.reserve(scan.size());
+    ground.reserve(scan.size());
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      const Point& p = scan.points[i];
+      if (!p.is_valid()) continue;
+      const Eigen::Vector3d q = T_map_lidar * p.xyz().cast<double>();
+      if ((q.head<2>() - sensor_m.head<2>()).norm() > c.max_range_m) continue;
+      pts.push_back(q);
+      ground.push_back(g.is_ground[i]);
+    }
+  }
+  return add_points(pts, ground, sensor_m);
+}
+
+FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
+                                    std::span<const std::uint8_t> is_ground,
+                                    const Eigen::Vector3d& sensor_m) {
+  if (is_ground.size() != pts.size())
+    throw Error("terrain fusion: " + std::to_string(is_ground.size()) + " ground flags for " +
+                std::to_string(pts.size()) + " points");
+  const FusionConfig& f = impl_->config;
+  const TraversabilityConfig& c = f.layers;
+  const double cm = c.cell_m;
+  FusionUpdate u;
+  // The scan's window of cells: its finite returns' extent.
+  Eigen::Vector2i lo(0, 0), hi(-1, -1);
+  for (const auto& p : pts) {
+    if (!p.allFinite()) continue;
+    const Eigen::Vector2i k(cell_index(p.x(), cm), cell_index(p.y(), cm));
+    if (u.points++ == 0) lo = hi = k;
+    lo = lo.cwiseMin(k);
+    hi = hi.cwiseMax(k);
+  }
+  ++impl_->scans;
+  impl_->last_sensor_m = sensor_m;
+  if (u.points == 0) return u;
+  const int w = hi.x() - lo.x() + 1, h = hi.y() - lo.y() + 1;
+  if (double(w) * h > 4e7)
+    throw Error("terrain fusion: one scan spans " + std::to_string(w) + " x " + std::to_string(h) +
+                " cells; far-off points? (max_range_m bounds add_scan)");
+  std::vector<ScanCell> local(std::size_t(w) * h);
+  auto local_of = [&](const Eigen::Vector3d& p) -> ScanCell& {
+    return local[std::size_t(cell_index(p.y(), cm) - lo.y()) * w +
+                 (cell_index(p.x(), cm) - lo.x())];
+  };
+
+  // Ground returns into their cells' statistics (relative to the cell centre and z_ref).
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Eigen::Vector3d& p = pts[i];
+    if (!p.allFinite()) continue;
+    ScanCell& s = local_of(p);
+    const int ix = cell_index(p.x(), cm), iy = cell_index(p.y(), cm);
+    if (!s.cell) s.cell = &impl_->store.get(ix, iy);
+    ++s.returns;
+    if (!is_ground[i]) continue;
+    ++s.ground;
+    ++u.ground_points;
+    s.low_ground = std::min(s.low_ground, float(p.z()));
+    FusedCell& cell = *s.cell;
+    if (std::isnan(cell.z_ref)) cell.z_ref = float(p.z());
+    cell.ground.add({p.x() - (ix + 0.5) * cm, p.y() - (iy + 0.5) * cm, p.z() - cell.z_ref});
+  }
+  // Obstacle returns: between min_obstacle_height and clearance above the cell's ground (this
+  // scan's lowest ground return there, else the map's elevation).
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Eigen::Vector3d& p = pts[i];
+    if (is_ground[i] || !p.allFinite()) continue;
+    ScanCell& s = local_of(p);
+    double base = s.low_ground;
+    if (!std::isfinite(base)) base = s.cell->layers[detail::kElev];
+    if (!std::isfinite(base)) {  // the lowest ground this scan saw next to the cell
+      const int x = cell_index(p.x(), cm) - lo.x(), y = cell_index(p.y(), cm) - lo.y();
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (x + dx >= 0 && y + dy >= 0 && x + dx < w && y + dy < h)
+            base = std::fmin(base, local[std::size_t(y + dy) * w + x + dx].low_ground);
+    }
+    if (!std::isfinite(base)) continue;
+    const double above = p.z() - base;
+    // Up into the robot's body, or down a pit's wall beyond the step it can take.
+    if (above >= c.robot.min_obstacle_height_m && above <= c.robot.clearance_m) {
+      ++s.raised;
+      s.top_m = std::max(s.top_m, float(above));
+    } else if (f.pit_evidence && above < -c.robot.max_step_m) {
+      ++s.raised;
+    }
+  }
+  if (f.see_through_stride > 0)
+    detail::mark_seen_through(local, lo, w, h, pts, sensor_m, f.see_through_stride, f);
+  // Evidence per cell, then the layers of every cell whose ground or evidence changed and of
+  // the cells whose voxel window (or obstacle halo) holds one: the scan's window padded by `pad`.
+  const int half = int(std::lround(voxel_side_m(c) / cm)) / 2, pad = std::max(half, 1);
+  const int pw = w + 2 * pad, ph = h + 2 * pad;
+  std::vector<std::uint8_t> dirty(std::size_t(pw) * ph, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      ScanCell& s = local[std::size_t(y) * w + x];
+      if (!s.cell) continue;
+      ++u.cells_touched;
+      FusedCell& cell = *s.cell;
+      cell.returns += s.returns;
+      if (s.ground > 0) cell.refresh_moments();
+      const float before = cell.log_odds;
+      if (int(s.raised) >= c.min_obstacle_points) {
+        cell.log_odds = std::min(f.max_log_odds, cell.log_odds + f.hit_log_odds);
+        cell.obstacle_top_m = std::max(cell.obstacle_top_m, s.top_m);
+      } else if (int(s.ground) >= f.min_free_ground_points || s.seen_through) {
+        cell.log_odds = std::max(f.min_log_odds, cell.log_odds + f.miss_log_odds);
+        if (cell.log_odds <= 0.0f) cell.obstacle_top_m = 0.0f;
+      }
+      if (s.ground == 0 && cell.log_odds == before) continue;
+      for (int dy = -pad; dy <= pad; ++dy)
+        for (int dx = -pad; dx <= pad; ++dx)
+          dirty[std::size_t(y + pad + dy) * pw + (x + pad + dx)] = 1;
+    }
+  for (int y = 0; y < ph; ++y)
+    for (int x = 0; x < pw; ++x)
+      if (dirty[std::size_t(y) * pw + x]) {
+        detail::derive_cell(impl_->store, lo.x() + x - pad, lo.y() + y - pad, half, f);
+        ++u.cells_updated;
+      }
+  return u;
+}
+
+Grid2D TerrainMap::local_map(const Eigen::Vector2d& center_m, double side_m) const {
+  const double cm = impl_->config.layers.cell_m;
+  const Eigen::Vector2i lo(cell_index(center_m.x() - side_m / 2, cm),
+                           cell_index(center_m.y() - side_m / 2, cm));
+  const int n = std::max(1, int(std::ceil(side_m / cm)));
+  return copy_cells(impl_->store, lo, n, n, cm);
+}
+
+Grid2D TerrainMap::local_map() const {
+  return local_map(impl_->last_sensor_m.head<2>(), impl_->config.local_side_m);
+}
+
+Grid2D TerrainMap::global_map() const {
+  const double cm = impl_->config.layers.cell_m;
+  if (impl_->store.empty()) return Grid2D(GridGeometry{.resolution_m = cm});
+  const Eigen::Vector2i lo = impl_->store.lo(), hi = impl_->store.hi();
+  return copy_cells(impl_->store, lo, hi.x() - lo.x() + 1, hi.y() - lo.y() + 1, cm);
+}
+
+}  // namespace fieldlidar::terrain

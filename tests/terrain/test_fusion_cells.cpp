@@ -1,0 +1,103 @@
+// The fused map on synthetic returns with exact answers: statistics add up across scans, layers
+// follow, obstacle evidence decays when the ground is seen again, unknown stays unknown.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/terrain/terrain_map.hpp"
+
+using namespace fieldlidar;
+using namespace fieldlidar::terrain;
+
+namespace {
+
+/// Ground returns of the plane z = tan(slope) x over [0, 10]^2 every `spacing` m, shifted by
+/// `phase`.
+void plane(double slope_deg, double spacing, double phase, std::vector<Eigen::Vector3d>& pts,
+           std::vector<std::uint8_t>& ground) {
+  const int n = int(std::lround(10.0 / spacing));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double x = phase + i * spacing, y = phase + j * spacing;
+      pts.emplace_back(x, y, std::tan(slope_deg * M_PI / 180) * x);
+      ground.push_back(1);
+    }
+}
+
+}  // namespace
+
+TEST(TerrainFusionCells, TwoSparseScansMakeOneDenseMap) {
+  TerrainMap map;
+  std::vector<Eigen::Vector3d> a, b;
+  std::vector<std::uint8_t> ga, gb;
+  plane(10.0, 0.2, 0.05, a, ga);
+  plane(10.0, 0.2, 0.15, b, gb);
+  map.add_points(a, ga, {5, 5, 1});
+  const Grid2D one = map.global_map();
+  const auto u = map.add_points(b, gb, {5, 5, 1});
+  EXPECT_EQ(map.scans(), 2u);
+  EXPECT_EQ(u.cells_touched, 400u);
+  const Grid2D two = map.global_map();
+  const Eigen::Vector2d c(5.25, 5.25);
+  EXPECT_EQ(*one.value_at(layer::kPoints, c), 9.0f);   // x, y in {5.05, 5.25, 5.45}
+  EXPECT_EQ(*two.value_at(layer::kPoints, c), 13.0f);  // and {5.15, 5.35}
+  EXPECT_NEAR(*two.value_at(layer::kSlopeDeg, c), 10.0, 0.1);
+  EXPECT_EQ(*two.value_at(layer::kImpassable, c), 0.0f);
+  EXPECT_NEAR(*two.value_at(layer::kElevation, c), std::tan(10 * M_PI / 180) * 5.25, 0.01);
+  // The rolling local map is the same cells around a centre; outside the drive: unknown.
+  const Grid2D local = map.local_map({5, 5}, 4.0);
+  EXPECT_EQ(local.geometry().width, 8);
+  EXPECT_EQ(*local.value_at(layer::kSlopeDeg, c), *two.value_at(layer::kSlopeDeg, c));
+  EXPECT_TRUE(std::isnan(*map.local_map({50, 50}, 4.0).value_at(layer::kImpassable, {50, 50})));
+  // The rolling local map follows the last scan's sensor (local_side_m around it).
+  const Grid2D rolling = map.local_map();
+  EXPECT_EQ(rolling.geometry().width, 80);  // 40 m / 0.5 m
+  EXPECT_NEAR(rolling.geometry().origin_m.x(), 5.0 - 20.0, 1e-9);
+  EXPECT_EQ(*rolling.value_at(layer::kSlopeDeg, c), *two.value_at(layer::kSlopeDeg, c));
+}
+
+TEST(TerrainFusionCells, ObstacleEvidenceDecaysWhenTheGroundIsSeenAgain) {
+  TerrainMap map;
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::uint8_t> ground;
+  plane(0.0, 0.1, 0.05, pts, ground);
+  std::vector<Eigen::Vector3d> with_person = pts;
+  std::vector<std::uint8_t> g_person = ground;
+  for (double z = 0.2; z < 1.0; z += 0.1)
+    with_person.emplace_back(5.2, 5.2, z), g_person.push_back(0);
+  const Eigen::Vector2d c(5.25, 5.25);
+  map.add_points(with_person, g_person, {0, 0, 1});
+  EXPECT_EQ(*map.global_map().value_at(layer::kObstacleProjected, c), 1.0f);
+  EXPECT_EQ(*map.global_map().value_at(layer::kImpassable, c), 1.0f);
+  map.add_points(pts, ground, {0, 0, 1});
+  map.add_points(pts, ground, {0, 0, 1});
+  EXPECT_EQ(*map.global_map().value_at(layer::kObstacleProjected, c), 0.0f);
+  EXPECT_EQ(*map.global_map().value_at(layer::kImpassable, c), 0.0f);
+}
+
+TEST(TerrainFusionCells, BadInputGivesUnknownOrAClearError) {
+  TerrainMap map;
+  const std::vector<Eigen::Vector3d> nan = {Eigen::Vector3d::Constant(std::nan(""))};
+  const std::vector<std::uint8_t> one = {1}, none;
+  EXPECT_EQ(map.add_points(nan, one, {0, 0, 0}).points, 0u);
+  EXPECT_EQ(map.global_map().geometry().cell_count(), 0u);
+  EXPECT_THROW(map.add_points(nan, none, {0, 0, 0}), Error);
+  // No ground at all: a wall of non-ground returns is never free.
+  std::vector<Eigen::Vector3d> wall;
+  std::vector<std::uint8_t> flags;
+  for (double y = 0; y < 3; y += 0.05)
+    for (double z = 0; z < 2; z += 0.05) wall.emplace_back(2.0, y, z), flags.push_back(0);
+  map.add_points(wall, flags, {0, 0, 1});
+  const Grid2D walled = map.global_map();
+  const auto tau = walled.layer(layer::kTraversability);
+  for (std::size_t i = 0; i < tau.size(); ++i) EXPECT_FALSE(tau[i] > 0.0f) << i;
+  map.add_scan(PointCloud{}, SensorModel::vlp16(), Pose::Identity());
+  FusionConfig absurd;
+  absurd.layers.robot.width_m = 1e6;
+  EXPECT_THROW(TerrainMap{absurd}, Error);
+  absurd = {};
+  absurd.layers.robot.max_slope_deg = 90;
+  EXPECT_THROW(TerrainMap{absurd}, Error);
+}
