@@ -1,0 +1,197 @@
+// Seed 004, f42: conjugate-gradient path smoothing (Dolgov, Thrun, Montemerlo, Diebel 2010):
+// minimise w_o sum (d_max - d_i)^2 [d_i < d_max] + w_s sum |x_{i+1} - 2 x_i + x_{i-1}|^2
+//        + w_k sum (kappa_i - kappa_max)^2 [kappa_i > kappa_max]
+// over the free samples of each forward or reverse run (ends and cusps fixed), then keep the
+// largest share of the change that leaves every footprint free and kappa <= kappa_max.
+
+#include "fieldlidar/planning/smoothing.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/planning/planning_map.hpp"
+
+namespace fieldlidar::planning {
+namespace {
+
+using Points = std::vector<Eigen::Vector2d>;
+
+double menger(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  const Eigen::Vector2d ab = b - a, bc = c - b, ac = c - a;
+  const double l = ab.norm() * bc.norm() * ac.norm();
+  if (l < 1e-12) return 0.0;
+  return 2.0 * std::abs(ab.x() * ac.y() - ab.y() * ac.x()) / l;
+}
+
+class Objective {
+ public:
+  Objective(const PlanningMap& map, double kappa_max, const SmoothingConfig& c)
+      : map_(map), kappa_max_(kappa_max * c.curvature_target_share), c_(c) {}
+
+  // Terms centred on sample i (1 <= i <= n-2).
+  double term(const Points& x, std::size_t i) const {
+    double f = 0.0;
+    const double d = map_.obstacle_distance_at(x[i].x(), x[i].y());
+    if (d < c_.obstacle_distance_m) f += c_.weight_obstacle * (c_.obstacle_distance_m - d) * (c_.obstacle_distance_m - d);
+    f += c_.weight_smoothness * (x[i + 1] - 2.0 * x[i] + x[i - 1]).squaredNorm();
+    const double k = menger(x[i - 1], x[i], x[i + 1]);
+    if (k > kappa_max_) f += c_.weight_curvature * (k - kappa_max_) * (k - kappa_max_);
+    return f;
+  }
+  double value(const Points& x) const {
+    double f = 0.0;
+    for (std::size_t i = 1; i + 1 < x.size(); ++i) f += term(x, i);
+    return f;
+  }
+  // Gradient by central differences of the terms that hold sample i (i-1, i, i+1).
+  void gradient(Points& x, Points& g) const {
+    const double h = 1e-4;
+    g.assign(x.size(), Eigen::Vector2d::Zero());
+    for (std::size_t i = 1; i + 1 < x.size(); ++i) {
+      const std::size_t lo = std::max<std::size_t>(1, i - 1), hi = std::min(x.size() - 2, i + 1);
+      for (int a = 0; a < 2; ++a) {
+        const double keep = x[i][a];
+        double fp = 0.0, fm = 0.0;
+        x[i][a] = keep + h;
+        for (std::size_t j = lo; j <= hi; ++j) fp += term(x, j);
+        x[i][a] = keep - h;
+        for (std::size_t j = lo; j <= hi; ++j) fm += term(x, j);
+        x[i][a] = keep;
+        g[i][a] = (fp - fm) / (2.0 * h);
+      }
+    }
+  }
+
+ private:
+  const PlanningMap& map_;
+  double kappa_max_;
+  const SmoothingConfig& c_;
+};
+
+double dot(const Points& a, const Points& b) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += a[i].dot(b[i]);
+  return s;
+}
+
+// Polak–Ribière conjugate gradient with a backtracking (Armijo) line search.
+int conjugate_gradient(Points& x, const Objective& f, int max_iterations) {
+  Points g, g_old, d, trial;
+  f.gradient(x, g);
+  d.resize(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) d[i] = -g[i];
+  double fx = f.value(x);
+  double last_step = 0.0;
+  const double f_start = fx;
+  int it = 0;
+  for (; it < max_iterations; ++it) {
+    double slope = dot(g, d);
+    if (slope >= 0.0) {  // not a descent direction: restart along the gradient
+      for (std::size_t i = 0; i < x.size(); ++i) d[i] = -g[i];
+      slope = dot(g, d);
+    }
+    if (-slope < 1e-12) break;
+    // first try: twice the last accepted step, or 5 cm of mean displacement
+    double step = last_step > 0.0 ? 2.0 * last_step
+                                  : 0.05 / std::max(1e-9, std::sqrt(dot(d, d) / double(x.size())));
+    bool moved = false;
+    for (int ls = 0; ls < 20; ++ls, step *= 0.5) {
+      trial = x;
+      for (std::size_t i = 0; i < x.size(); ++i) trial[i] += step * d[i];
+      const double ft = f.value(trial);
+      if (ft <= fx + 1e-4 * step * slope) {
+        x.swap(trial);
+        fx = ft;
+        last_step = step;
+        moved = true;
+        break;
+      }
+    }
+    if (!moved) break;
+    if (it > 5 && (f_start - fx) < 1e-4 * std::max(1e-9, f_start)) break;
+    g_old.swap(g);
+    f.gradient(x, g);
+    double beta = 0.0;
+    const double denom = dot(g_old, g_old);
+    if (denom > 0.0) {
+      double num = 0.0;
+      for (std::size_t i = 0; i < x.size(); ++i) num += g[i].dot(g[i] - g_old[i]);
+      beta = std::max(0.0, num / denom);
+    }
+    for (std::size_t i = 0; i < x.size(); ++i) d[i] = -g[i] + beta * d[i];
+  }
+  return it;
+}
+
+// Headings of run [a, b] from the positions (the tangent; flipped on a reverse run), the run's
+// end samples keeping theirs.
+void set_headings(Path& p, std::size_t a, std::size_t b) {
+  const bool reverse = p[b].reverse;
+  for (std::size_t i = a + 1; i < b; ++i) {
+    const double dx = p[i + 1].pose.x_m - p[i - 1].pose.x_m;
+    const double dy = p[i + 1].pose.y_m - p[i - 1].pose.y_m;
+    double yaw = std::atan2(dy, dx);
+    if (reverse) yaw += M_PI;
+    p[i].pose.yaw_rad = wrap_angle(yaw);
+  }
+}
+
+}  // namespace
+
+Path smooth_path(const Path& path, const PlanningMap& map, double kappa_max,
+                 const SmoothingConfig& config, SmoothingReport* report) {
+  Path out = path;
+  SmoothingReport r;
+  r.length_before_m = path_length_m(path);
+  r.turning_before_rad = total_turning_rad(path);
+  const Objective f(map, kappa_max, config);
+  double kept_weight = 0.0, kept_total = 0.0;
+  std::size_t a = 0;
+  while (a + 1 < path.size()) {
+    std::size_t b = a + 1;  // run [a, b]: samples a+1..b share a direction
+    while (b + 1 < path.size() && path[b + 1].reverse == path[a + 1].reverse) ++b;
+    if (b - a >= 3) {
+      Points x0(b - a + 1), x;
+      for (std::size_t i = a; i <= b; ++i) x0[i - a] = {path[i].pose.x_m, path[i].pose.y_m};
+      x = x0;
+      r.iterations += conjugate_gradient(x, f, config.max_iterations);
+      const Path base(path.begin() + long(a), path.begin() + long(b) + 1);
+      const double base_length = path_length_m(base), base_turning = total_turning_rad(base);
+      // the largest share of the change that keeps every footprint free and kappa in bounds
+      double alpha = 1.0;
+      for (; alpha > 1.0 / 64; alpha *= 0.5) {
+        Path trial(path.begin() + long(a), path.begin() + long(b) + 1);
+        for (std::size_t i = 1; i + 1 < x.size(); ++i) {
+          const Eigen::Vector2d p = x0[i] + alpha * (x[i] - x0[i]);
+          trial[i].pose.x_m = p.x();
+          trial[i].pose.y_m = p.y();
+        }
+        set_headings(trial, 0, trial.size() - 1);
+        // kept only when it does what it is for: no longer, turning no more, kappa in bounds
+        bool ok = max_curvature(trial) <= kappa_max * (1.0 + 1e-6) &&
+                  path_length_m(trial) <= base_length + 1e-9 &&
+                  total_turning_rad(trial) <= base_turning + 1e-9;
+        for (std::size_t i = 1; ok && i + 1 < trial.size(); ++i) ok = map.pose_free(trial[i].pose);
+        if (ok) {
+          std::copy(trial.begin(), trial.end(), out.begin() + long(a));
+          break;
+        }
+      }
+      if (alpha <= 1.0 / 64) alpha = 0.0;
+      kept_weight += alpha * double(b - a);
+      kept_total += double(b - a);
+    }
+    a = b;
+  }
+  r.blend = kept_total > 0 ? kept_weight / kept_total : 0.0;
+  r.length_after_m = path_length_m(out);
+  r.turning_after_rad = total_turning_rad(out);
+  r.max_curvature_after = max_curvature(out);
+  if (report) *report = r;
+  return out;
+}
+
+}  // namespace fieldlidar::planning
