@@ -11,11 +11,11 @@
 #include <limits>
 #include <numbers>
 #include <queue>
-#include <unordered_map>
 #include <vector>
 
 #include "fieldlidar/planning/reeds_shepp.hpp"
 #include "obstacle_heuristic.hpp"
+#include "state_table.hpp"
 
 namespace fieldlidar::planning {
 namespace {
@@ -47,13 +47,25 @@ bool config_valid(const PlannerConfig& c) {
          c.tau_weight >= 0.0 && c.reverse_factor >= 1.0 && c.turn_factor >= 1.0 &&
          c.direction_change_penalty_m >= 0.0 && c.path_resolution_m > 0.0 &&
          c.goal_xy_tolerance_m >= 0.0 && c.goal_yaw_tolerance_rad >= 0.0 &&
-         c.heuristic_downsample >= 1 && c.heuristic_downsample <= 16;
+         c.heuristic_downsample >= 1 && c.heuristic_downsample <= 16 &&
+         c.heuristic_weight >= 1.0 && c.heuristic_weight <= 10.0;
 }
 
 struct Primitive {
   double curvature;  ///< 1/m, signed
   double length_m;   ///< signed: negative in reverse
+  /// Poses along it in the frame of its start, at the footprint-check spacing; the last is its
+  /// end (a pose in the map frame is then one rotation away: no trigonometry per sample).
+  std::vector<Pose2> local;
 };
+
+// `local` (a pose relative to p, in p's frame) in the map frame, given cos and sin of p's yaw.
+Pose2 compose(const Pose2& p, double c, double s, const Pose2& local) {
+  double yaw = p.yaw_rad + local.yaw_rad;
+  if (yaw > std::numbers::pi) yaw -= 2.0 * std::numbers::pi;
+  if (yaw <= -std::numbers::pi) yaw += 2.0 * std::numbers::pi;
+  return {p.x_m + c * local.x_m - s * local.y_m, p.y_m + s * local.x_m + c * local.y_m, yaw};
+}
 
 }  // namespace
 
@@ -84,7 +96,7 @@ struct HybridAStar::Search {
   };
   using Entry = std::pair<double, int>;
   std::vector<Node> nodes;
-  std::unordered_map<std::uint32_t, int> state_node;
+  StateTable state_node;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
   ObstacleHeuristic heuristic;
 };
@@ -126,7 +138,12 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
   const double bin_rad = 2.0 * std::numbers::pi / bins;
   std::vector<Primitive> prims;
   for (double dir : {1.0, -1.0})
-    for (double k : {0.0, 1.0 / R, -1.0 / R}) prims.push_back({k, dir * step});
+    for (double k : {0.0, 1.0 / R, -1.0 / R}) {
+      Primitive m{k, dir * step, {}};
+      const int n = std::max(1, int(std::ceil(step / check_step)));
+      for (int i = 1; i <= n; ++i) m.local.push_back(drive({0, 0, 0}, k, m.length_m * i / n));
+      prims.push_back(std::move(m));
+    }
 
   auto state_of = [&](const Pose2& p, long cell) {
     int b = int(std::lround(p.yaw_rad / bin_rad)) % bins;
@@ -145,8 +162,8 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
   auto heuristic = [&](const Pose2& p, long cell) {
     const auto t = Clock::now();
     const double obstacle = s.heuristic.cost_m(cell, deadline);
-    if (std::isnan(obstacle)) return obstacle;
     result.heuristic_ms += ms_since(t);
+    if (std::isnan(obstacle)) return obstacle;
     const double d = std::hypot(goal.x_m - p.x_m, goal.y_m - p.y_m);
     const double rs = d < c.rs_heuristic_range_m ? reeds_shepp_length_m(p, goal, R) : d;
     return std::max(rs, obstacle);
@@ -157,7 +174,7 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
   if (!std::isfinite(h_start)) return fail(PlanStatus::kNoPath);
 
   s.nodes.push_back({start, 0.0, -1, -1, state_of(start, start_cell), false});
-  s.state_node[s.nodes[0].state] = 0;
+  s.state_node.set(s.nodes[0].state, 0);
   s.open.push({h_start, 0});
 
   // The cost of driving a sampled curve from node `from` (the same terms as the primitives).
@@ -199,7 +216,7 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
       result.reached_by_shot = true;
       break;
     }
-    if (s.nodes[idx].closed || s.state_node[s.nodes[idx].state] != idx) continue;  // stale
+    if (s.nodes[idx].closed || *s.state_node.find(s.nodes[idx].state) != idx) continue;  // stale
     s.nodes[idx].closed = true;
     ++result.expansions;
     if (s.nodes[idx].g + 1e-9 >= best_goal_g) continue;  // cannot beat the candidate
@@ -231,24 +248,23 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
     }
     // f3: children along the primitives.
     const int parent_prim = s.nodes[idx].primitive;
+    const double cy = std::cos(p.yaw_rad), sy = std::sin(p.yaw_rad);
     for (int pi = 0; pi < int(prims.size()); ++pi) {
       const Primitive& m = prims[pi];
-      const Pose2 q = drive(p, m.curvature, m.length_m);
+      const Pose2 q = compose(p, cy, sy, m.local.back());
       const long cell = map_.cell_index(q.x_m, q.y_m);
       if (cell < 0) continue;
       const std::uint32_t st = state_of(q, cell);
       if (st == s.nodes[idx].state) continue;
-      auto it = s.state_node.find(st);
-      if (it != s.state_node.end() && (it->second == kClosedByTau || s.nodes[it->second].closed))
-        continue;
+      const std::int32_t* known = s.state_node.find(st);
+      if (known && (*known == kClosedByTau || s.nodes[*known].closed)) continue;
       if (map_.blocked(std::size_t(cell))) {  // f31
-        s.state_node[st] = kClosedByTau;
+        s.state_node.set(st, kClosedByTau);
         continue;
       }
-      const int n = std::max(1, int(std::ceil(std::abs(m.length_m) / check_step)));
-      bool free = true;
-      for (int k = 1; k <= n && free; ++k)
-        free = map_.pose_free(k == n ? q : drive(p, m.curvature, m.length_m * k / n));
+      bool free = map_.pose_free(q);
+      for (std::size_t k = 0; k + 1 < m.local.size() && free; ++k)
+        free = map_.pose_free(compose(p, cy, sy, m.local[k]));
       if (!free) continue;
       const bool reverse = m.length_m < 0;
       double g = s.nodes[idx].g + std::abs(m.length_m) * cost_mult(cell) *
@@ -256,14 +272,14 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
                                       (m.curvature != 0.0 ? c.turn_factor : 1.0);
       if (parent_prim >= 0 && (prims[parent_prim].length_m < 0) != reverse)
         g += c.direction_change_penalty_m;
-      if (it != s.state_node.end() && s.nodes[it->second].g <= g) continue;
+      if (known && s.nodes[*known].g <= g) continue;
       const double h = heuristic(q, cell);
       if (std::isnan(h)) return fail(PlanStatus::kTimedOut);
       if (!std::isfinite(h)) continue;
       s.nodes.push_back({q, g, idx, pi, st, false});
       const int child = int(s.nodes.size()) - 1;
-      s.state_node[st] = child;
-      s.open.push({g + h, child});  // f32
+      s.state_node.set(st, child);
+      s.open.push({g + c.heuristic_weight * h - 1e-6 * g, child});  // f32; ties go to the deeper node
     }
   }
   if (goal_node < 0) return fail(PlanStatus::kNoPath);

@@ -80,9 +80,10 @@ double ObstacleHeuristic::cost_m(long cell, std::chrono::steady_clock::time_poin
       }
     }
   }
-  // From the cell's coarse centre: take off the half-diagonal of a coarse cell so it stays a
+  // Between cell centres; with downsampling, less the half-diagonal of a coarse cell so it stays a
   // lower bound for any point of the cell.
   if (!settled_[target]) return std::numeric_limits<double>::infinity();
+  if (factor_ == 1) return double(dist_[target]);
   return std::max(0.0, double(dist_[target]) - 0.7072 * coarse_res_m_);
 }
 

