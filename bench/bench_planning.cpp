@@ -103,7 +103,8 @@ void BM_HybridAStar147k(benchmark::State& state) {
   c1.heuristic_weight = 1.0;
   c1.heuristic_downsample = 1;
   HybridAStar reference(map, {}, c1);
-  std::vector<double> cost_ratio;
+  std::vector<double> cost_ratio, shorter_pct, straighter_pct;
+  int smoothed = 0;
   const auto qs = queries(planner, 60, 11);
   std::vector<double> ms, search_ms, exp, cpu_ms;
   int ok = 0, nopath = 0, timed_out = 0, other = 0;
@@ -116,6 +117,12 @@ void BM_HybridAStar147k(benchmark::State& state) {
       if (r.ok()) {
         ++ok;
         cpu_ms.push_back(cpu);
+        if (c.smooth) {
+          smoothed += r.smoothing.blend > 0.0;
+          shorter_pct.push_back(100.0 * (1.0 - r.smoothing.length_after_m / r.smoothing.length_before_m));
+          straighter_pct.push_back(
+              100.0 * (1.0 - r.smoothing.turning_after_rad / r.smoothing.turning_before_rad));
+        }
         const auto r1 = reference.plan(q.start, q.goal);
         if (r1.ok()) cost_ratio.push_back(r.cost / r1.cost);
         ms.push_back(r.search_ms + r.smooth_ms);
@@ -141,6 +148,13 @@ void BM_HybridAStar147k(benchmark::State& state) {
   state.counters["planned"] = ok;
   state.counters["no_path"] = nopath;
   state.counters["timed_out"] = timed_out;
+  if (c.smooth) {
+    state.counters["smoothed_plans"] = smoothed;
+    state.counters["shorter_pct_median"] = percentile(shorter_pct, 0.5);
+    state.counters["shorter_pct_max"] = percentile(shorter_pct, 1.0);
+    state.counters["turning_less_pct_median"] = percentile(straighter_pct, 0.5);
+    state.counters["turning_less_pct_max"] = percentile(straighter_pct, 1.0);
+  }
   state.counters["cost_vs_w1_median"] = percentile(cost_ratio, 0.5);
   state.counters["cost_vs_w1_max"] = percentile(cost_ratio, 1.0);
   state.counters["other_failures"] = other;

@@ -308,7 +308,9 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
   result.search_ms = ms_since(t0);
   result.raw_path = raw;
   const auto ts = Clock::now();
-  result.path = c.smooth ? smooth_path(raw, map_, 1.0 / R, c.smoothing, &result.smoothing) : raw;
+  SmoothingConfig sc = c.smoothing;
+  sc.tau_weight = c.tau_weight;
+  result.path = c.smooth ? smooth_path(raw, map_, 1.0 / R, sc, &result.smoothing) : raw;
   result.smooth_ms = ms_since(ts);
   result.status = PlanStatus::kSuccess;
   return result;

@@ -7,6 +7,7 @@
 #include "fieldlidar/planning/smoothing.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <vector>
 
@@ -50,7 +51,8 @@ class Objective {
   void gradient(Points& x, Points& g) const {
     const double h = 1e-4;
     g.assign(x.size(), Eigen::Vector2d::Zero());
-    for (std::size_t i = 1; i + 1 < x.size(); ++i) {
+    // two vertices fixed at each end: the end poses and the headings into them stay
+    for (std::size_t i = 2; i + 2 < x.size(); ++i) {
       const std::size_t lo = std::max<std::size_t>(1, i - 1), hi = std::min(x.size() - 2, i + 1);
       for (int a = 0; a < 2; ++a) {
         const double keep = x[i][a];
@@ -139,6 +141,30 @@ void set_headings(Path& p, std::size_t a, std::size_t b) {
   }
 }
 
+// Sum over the path's steps of length * (1 + w (1 - tau)) at the step's end cell.
+double tau_cost(const Path& p, const PlanningMap& map, double w) {
+  double c = 0.0;
+  for (std::size_t i = 1; i < p.size(); ++i) {
+    const long cell = map.cell_index(p[i].pose.x_m, p[i].pose.y_m);
+    const double tau = cell < 0 ? 0.0 : map.tau(std::size_t(cell));
+    c += std::hypot(p[i].pose.x_m - p[i - 1].pose.x_m, p[i].pose.y_m - p[i - 1].pose.y_m) *
+         (1.0 + w * (1.0 - tau));
+  }
+  return c;
+}
+
+// Catmull–Rom interpolation of points d (clamped at the ends) at vertex j + t.
+Eigen::Vector2d displacement_at(const Points& d, std::size_t j, double t) {
+  const std::size_t n = d.size();
+  const Eigen::Vector2d& p0 = d[j == 0 ? 0 : j - 1];
+  const Eigen::Vector2d& p1 = d[j];
+  const Eigen::Vector2d& p2 = d[std::min(n - 1, j + 1)];
+  const Eigen::Vector2d& p3 = d[std::min(n - 1, j + 2)];
+  const double t2 = t * t, t3 = t2 * t;
+  return 0.5 * ((2.0 * p1) + (-p0 + p2) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2 +
+                (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * t3);
+}
+
 }  // namespace
 
 Path smooth_path(const Path& path, const PlanningMap& map, double kappa_max,
@@ -153,27 +179,57 @@ Path smooth_path(const Path& path, const PlanningMap& map, double kappa_max,
   while (a + 1 < path.size()) {
     std::size_t b = a + 1;  // run [a, b]: samples a+1..b share a direction
     while (b + 1 < path.size() && path[b + 1].reverse == path[a + 1].reverse) ++b;
-    if (b - a >= 3) {
-      Points x0(b - a + 1), x;
-      for (std::size_t i = a; i <= b; ++i) x0[i - a] = {path[i].pose.x_m, path[i].pose.y_m};
+    // the run's vertices: about vertex_spacing_m apart, its ends included
+    const double spacing = path_length_m(Path(path.begin() + long(a), path.begin() + long(b) + 1)) /
+                           double(b - a);
+    const std::size_t k =
+        std::max<std::size_t>(1, std::size_t(std::lround(config.vertex_spacing_m / std::max(1e-6, spacing))));
+    std::vector<std::size_t> vi;
+    for (std::size_t i = a; i < b; i += k) vi.push_back(i);
+    if (vi.size() > 1 && 2 * (b - vi.back()) < k) vi.pop_back();  // no short last interval
+    vi.push_back(b);
+    if (vi.size() >= 8) {
+      Points x0(vi.size()), x;
+      for (std::size_t j = 0; j < vi.size(); ++j) x0[j] = {path[vi[j]].pose.x_m, path[vi[j]].pose.y_m};
       x = x0;
       r.iterations += conjugate_gradient(x, f, config.max_iterations);
       const Path base(path.begin() + long(a), path.begin() + long(b) + 1);
       const double base_length = path_length_m(base), base_turning = total_turning_rad(base);
-      // the largest share of the change that keeps every footprint free and kappa in bounds
+      const double base_cost = tau_cost(base, map, config.tau_weight);
+      // The smoothed curve: a Catmull–Rom spline through the optimised vertices, sampled where
+      // the path's samples were. Kept in the largest share alpha of the change (base + alpha *
+      // (spline - base)) for which every sample's footprint is free, kappa <= kappa_max, and the
+      // run is no longer and turns no more than before.
+      Path spline = base;
+      std::size_t j = 0;
+      for (std::size_t i = a + 1; i < b; ++i) {
+        while (j + 1 < vi.size() && vi[j + 1] <= i) ++j;
+        const double t = j + 1 < vi.size() ? double(i - vi[j]) / double(vi[j + 1] - vi[j]) : 0.0;
+        const Eigen::Vector2d p = displacement_at(x, j, t);
+        spline[i - a].pose.x_m = p.x();
+        spline[i - a].pose.y_m = p.y();
+      }
+      // The change fades in and out over the first and last three vertex intervals (a smooth
+      // step), so the run leaves and reaches its fixed ends with their headings and no kink.
+      std::vector<double> ramp(base.size(), 1.0);
+      const double fade = 3.0 * double(k);
+      for (std::size_t i = 0; i < base.size(); ++i) {
+        const double u = std::clamp(std::min(double(i), double(base.size() - 1 - i)) / fade, 0.0, 1.0);
+        ramp[i] = u * u * u * (u * (6.0 * u - 15.0) + 10.0);  // smootherstep: C2 at both ends
+      }
       double alpha = 1.0;
       for (; alpha > 1.0 / 64; alpha *= 0.5) {
-        Path trial(path.begin() + long(a), path.begin() + long(b) + 1);
-        for (std::size_t i = 1; i + 1 < x.size(); ++i) {
-          const Eigen::Vector2d p = x0[i] + alpha * (x[i] - x0[i]);
-          trial[i].pose.x_m = p.x();
-          trial[i].pose.y_m = p.y();
+        Path trial = base;
+        for (std::size_t i = 1; i + 1 < trial.size(); ++i) {
+          const double w = alpha * ramp[i];
+          trial[i].pose.x_m += w * (spline[i].pose.x_m - base[i].pose.x_m);
+          trial[i].pose.y_m += w * (spline[i].pose.y_m - base[i].pose.y_m);
         }
         set_headings(trial, 0, trial.size() - 1);
-        // kept only when it does what it is for: no longer, turning no more, kappa in bounds
         bool ok = max_curvature(trial) <= kappa_max * (1.0 + 1e-6) &&
                   path_length_m(trial) <= base_length + 1e-9 &&
-                  total_turning_rad(trial) <= base_turning + 1e-9;
+                  total_turning_rad(trial) <= base_turning + 1e-9 &&
+                  tau_cost(trial, map, config.tau_weight) <= base_cost + 1e-9;
         for (std::size_t i = 1; ok && i + 1 < trial.size(); ++i) ok = map.pose_free(trial[i].pose);
         if (ok) {
           std::copy(trial.begin(), trial.end(), out.begin() + long(a));
