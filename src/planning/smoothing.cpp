@@ -217,25 +217,51 @@ Path smooth_path(const Path& path, const PlanningMap& map, double kappa_max,
         const double u = std::clamp(std::min(double(i), double(base.size() - 1 - i)) / fade, 0.0, 1.0);
         ramp[i] = u * u * u * (u * (6.0 * u - 15.0) + 10.0);  // smootherstep: C2 at both ends
       }
+      // Where a sample still bends above kappa_max or touches a blocked cell (the search's
+      // arcs already run at kappa_max), the change dips smoothly to nothing around it (a
+      // smootherstep over three vertex intervals); the dips and a global share alpha are
+      // tightened until every sample is fine and the run is no longer, turns no more and costs
+      // no more than before.
+      auto smootherstep = [](double u) { return u * u * u * (u * (6.0 * u - 15.0) + 10.0); };
       double alpha = 1.0;
-      for (; alpha > 1.0 / 64; alpha *= 0.5) {
-        Path trial = base;
-        for (std::size_t i = 1; i + 1 < trial.size(); ++i) {
-          const double w = alpha * ramp[i];
-          trial[i].pose.x_m += w * (spline[i].pose.x_m - base[i].pose.x_m);
-          trial[i].pose.y_m += w * (spline[i].pose.y_m - base[i].pose.y_m);
-        }
-        set_headings(trial, 0, trial.size() - 1);
-        bool ok = max_curvature(trial) <= kappa_max * (1.0 + 1e-6) &&
-                  path_length_m(trial) <= base_length + 1e-9 &&
-                  total_turning_rad(trial) <= base_turning + 1e-9 &&
-                  tau_cost(trial, map, config.tau_weight) <= base_cost + 1e-9;
-        for (std::size_t i = 1; ok && i + 1 < trial.size(); ++i) ok = map.pose_free(trial[i].pose);
-        if (ok) {
-          std::copy(trial.begin(), trial.end(), out.begin() + long(a));
-          break;
+      bool accepted = false;
+      for (; alpha > 1.0 / 64 && !accepted; alpha *= 0.5) {
+        std::vector<double> local(base.size(), 1.0);
+        for (int round = 0; round < 8; ++round) {
+          Path trial = base;
+          for (std::size_t i = 1; i + 1 < trial.size(); ++i) {
+            const double w = alpha * ramp[i] * local[i];
+            trial[i].pose.x_m += w * (spline[i].pose.x_m - base[i].pose.x_m);
+            trial[i].pose.y_m += w * (spline[i].pose.y_m - base[i].pose.y_m);
+          }
+          set_headings(trial, 0, trial.size() - 1);
+          std::vector<std::size_t> bad;
+          for (std::size_t i = 1; i + 1 < trial.size(); ++i)
+            if (menger_curvature(trial, i) > kappa_max * (1.0 + 1e-6) ||
+                !map.pose_free(trial[i].pose))
+              bad.push_back(i);
+          if (bad.empty()) {
+            if (path_length_m(trial) <= base_length + 1e-9 &&
+                total_turning_rad(trial) <= base_turning + 1e-9 &&
+                tau_cost(trial, map, config.tau_weight) <= base_cost + 1e-9) {
+              std::copy(trial.begin(), trial.end(), out.begin() + long(a));
+              accepted = true;
+            }
+            break;
+          }
+          const double kk = double(k);
+          for (std::size_t v : bad) {
+            const std::size_t lo = v > 4 * k ? v - 4 * k : 0;
+            const std::size_t hi = std::min(base.size() - 1, v + 4 * k);
+            for (std::size_t i = lo; i <= hi; ++i) {
+              const double dist = std::abs(double(i) - double(v));
+              local[i] = std::min(local[i], smootherstep(std::clamp((dist - kk) / (3.0 * kk), 0.0, 1.0)));
+            }
+          }
         }
       }
+      if (accepted) alpha *= 2.0;  // undo the loop's last halving
+      else alpha = 0.0;
       if (alpha <= 1.0 / 64) alpha = 0.0;
       kept_weight += alpha * double(b - a);
       kept_total += double(b - a);
