@@ -163,6 +163,7 @@ BENCHMARK(BM_HybridAStar147k)
     ->ArgNames({"smooth", "weight_x10", "downsample"})
     ->Args({0, 10, 1})
     ->Args({0, 12, 1})
+    ->Args({1, 12, 1})
     ->Args({0, 12, 2})
     ->Args({1, 12, 2})
     ->Args({0, 15, 2})
@@ -176,6 +177,7 @@ void BM_RrtStarVsHybridAStar(benchmark::State& state) {
   const Grid2D map = bench_map(7);
   PlannerConfig c;
   c.tau_weight = 0.0;  // the same objective as RRT*'s: path length
+  c.heuristic_weight = state.range(0) / 10.0;
   HybridAStar planner(map, {}, c);
   const auto qs = queries(planner, 8, 23);
   std::vector<double> len_ratio, time_ratio;
@@ -226,6 +228,11 @@ void BM_RrtStarVsHybridAStar(benchmark::State& state) {
   state.counters["time_ratio_median"] = percentile(time_ratio, 0.5);  // RRT* / ours
   state.counters["time_ratio_min"] = percentile(time_ratio, 0.0);
 }
-BENCHMARK(BM_RrtStarVsHybridAStar)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RrtStarVsHybridAStar)
+    ->ArgName("weight_x10")
+    ->Arg(10)
+    ->Arg(12)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
