@@ -43,20 +43,22 @@ Grid2D bench_map(std::uint32_t seed) {
   for (int iy = 0; iy < 384; ++iy)
     for (int ix = 0; ix < 384; ++ix) {
       const double x = ix * 0.5, y = iy * 0.5;
-      const double v = std::sin(x / 9.0 + p1) * std::cos(y / 7.0 + p2) +
-                       0.5 * std::sin((x + y) / 4.0 + p3);
+      const double v =
+          std::sin(x / 9.0 + p1) * std::cos(y / 7.0 + p2) + 0.5 * std::sin((x + y) / 4.0 + p3);
       tau[g.linear_index(ix, iy)] = float(std::clamp(0.75 + 0.25 * v, 0.3, 1.0));
     }
   auto blockc = [&](double cx, double cy, double rad) {
-    for (int iy = std::max(0, int((cy - rad) / 0.5)); iy < std::min(384, int((cy + rad) / 0.5) + 1); ++iy)
-      for (int ix = std::max(0, int((cx - rad) / 0.5)); ix < std::min(384, int((cx + rad) / 0.5) + 1); ++ix)
+    for (int iy = std::max(0, int((cy - rad) / 0.5)); iy < std::min(384, int((cy + rad) / 0.5) + 1);
+         ++iy)
+      for (int ix = std::max(0, int((cx - rad) / 0.5));
+           ix < std::min(384, int((cx + rad) / 0.5) + 1); ++ix)
         if (std::hypot((ix + 0.5) * 0.5 - cx, (iy + 0.5) * 0.5 - cy) < rad) {
           tau[g.linear_index(ix, iy)] = 0.0f;
           imp[g.linear_index(ix, iy)] = 1.0f;
         }
   };
   for (int k = 0; k < 250; ++k) blockc(u(rng), u(rng), r(rng));  // rock fields
-  for (int k = 0; k < 12; ++k) {                                  // walls (ditches)
+  for (int k = 0; k < 12; ++k) {                                 // walls (ditches)
     const double x = u(rng), y = u(rng), a = u(rng);
     for (double s = 0; s < 25; s += 0.25) blockc(x + s * std::cos(a), y + s * std::sin(a), 0.5);
   }
@@ -119,7 +121,8 @@ void BM_HybridAStar147k(benchmark::State& state) {
         cpu_ms.push_back(cpu);
         if (c.smooth) {
           smoothed += r.smoothing.blend > 0.0;
-          shorter_pct.push_back(100.0 * (1.0 - r.smoothing.length_after_m / r.smoothing.length_before_m));
+          shorter_pct.push_back(100.0 *
+                                (1.0 - r.smoothing.length_after_m / r.smoothing.length_before_m));
           straighter_pct.push_back(
               100.0 * (1.0 - r.smoothing.turning_after_rad / r.smoothing.turning_before_rad));
         }

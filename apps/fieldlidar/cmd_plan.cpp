@@ -72,10 +72,9 @@ std::string path_geojson(const planning::Path& path, const planning::Pose2& star
                             {"properties", {{"name", "path"}, {"frame", "map"}}},
                             {"geometry", {{"type", "LineString"}, {"coordinates", line}}}});
   for (const auto& [name, p] : {std::pair{"start", start}, std::pair{"goal", goal}})
-    fc["features"].push_back(
-        {{"type", "Feature"},
-         {"properties", {{"name", name}, {"yaw_rad", p.yaw_rad}}},
-         {"geometry", {{"type", "Point"}, {"coordinates", {p.x_m, p.y_m}}}}});
+    fc["features"].push_back({{"type", "Feature"},
+                              {"properties", {{"name", name}, {"yaw_rad", p.yaw_rad}}},
+                              {"geometry", {{"type", "Point"}, {"coordinates", {p.x_m, p.y_m}}}}});
   return fc.dump(1) + "\n";
 }
 
@@ -83,15 +82,14 @@ void draw(const planning::PlanningMap& map, const planning::PlanResult& r,
           const planning::Pose2& start, const planning::Pose2& goal, const std::string& title,
           const fs::path& out, bool force) {
   const GridGeometry& g = map.geometry();
-  TopDownCanvas canvas(g.origin_m,
-                       g.origin_m + Eigen::Vector2d(g.width * g.resolution_m,
-                                                    g.height * g.resolution_m),
-                       1000);
+  TopDownCanvas canvas(
+      g.origin_m, g.origin_m + Eigen::Vector2d(g.width * g.resolution_m, g.height * g.resolution_m),
+      1000);
   for (int iy = 0; iy < g.height; ++iy)
     for (int ix = 0; ix < g.width; ++ix) {
       const std::size_t i = g.linear_index(ix, iy);
       const double t = map.tau(i);
-      const Rgb c = map.blocked(i) ? Rgb{0, 0, 0}
+      const Rgb c = map.blocked(i)  ? Rgb{0, 0, 0}
                     : !map.known(i) ? Rgb{0.6, 0.6, 0.6}
                                     : Rgb{1.0 - 0.5 * t, 1.0 - 0.2 * t, 1.0 - 0.5 * t};
       canvas.cell(g, ix, iy, c);
@@ -171,10 +169,11 @@ void run(const PlanOptions& o) {
     throw Error(fmt::format("plan: {} ({} expansions, {:.1f} ms); see {}",
                             planning::to_string(r.status), r.expansions, r.search_ms,
                             (out / "summary.json").string()));
-  fmt::print("{}: path {:.1f} m, {} direction changes, {} expansions, {:.1f} ms search + {:.1f} "
-             "ms smoothing -> {}\n",
-             yaml.string(), planning::path_length_m(r.path), planning::direction_changes(r.path),
-             r.expansions, r.search_ms, r.smooth_ms, out.string());
+  fmt::print(
+      "{}: path {:.1f} m, {} direction changes, {} expansions, {:.1f} ms search + {:.1f} "
+      "ms smoothing -> {}\n",
+      yaml.string(), planning::path_length_m(r.path), planning::direction_changes(r.path),
+      r.expansions, r.search_ms, r.smooth_ms, out.string());
 }
 
 }  // namespace

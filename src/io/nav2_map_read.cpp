@@ -76,7 +76,8 @@ Grid2D decode_nav2_map(const std::string& yaml, const std::string& pgm,
 
   std::istringstream in(pgm);
   const std::string magic = pgm_token(in);
-  if (magic != "P5") throw Error(source + ": image is not a binary PGM (P5), magic '" + magic + "'");
+  if (magic != "P5")
+    throw Error(source + ": image is not a binary PGM (P5), magic '" + magic + "'");
   int w = 0, h = 0, maxval = 0;
   try {
     w = std::stoi(pgm_token(in));
@@ -110,8 +111,10 @@ Grid2D decode_nav2_map(const std::string& yaml, const std::string& pgm,
         continue;
       }
       const double occ = (255.0 - p) / 255.0;
-      if (occ > occupied) t = 0.0f;
-      else if (occ <= free) t = 1.0f;
+      if (occ > occupied)
+        t = 0.0f;
+      else if (occ <= free)
+        t = 1.0f;
     }
   }
   return grid;

@@ -33,7 +33,8 @@ bool finite(const Pose2& p) {
 
 // Pose after driving signed length s (m) on an arc of signed curvature k (1/m; 0 straight).
 Pose2 drive(const Pose2& p, double k, double s) {
-  if (k == 0.0) return {p.x_m + s * std::cos(p.yaw_rad), p.y_m + s * std::sin(p.yaw_rad), p.yaw_rad};
+  if (k == 0.0)
+    return {p.x_m + s * std::cos(p.yaw_rad), p.y_m + s * std::sin(p.yaw_rad), p.yaw_rad};
   const double yaw = p.yaw_rad + k * s;
   return {p.x_m + (std::sin(yaw) - std::sin(p.yaw_rad)) / k,
           p.y_m - (std::cos(yaw) - std::cos(p.yaw_rad)) / k, wrap_angle(yaw)};
@@ -47,8 +48,8 @@ bool config_valid(const PlannerConfig& c) {
          c.tau_weight >= 0.0 && c.reverse_factor >= 1.0 && c.turn_factor >= 1.0 &&
          c.direction_change_penalty_m >= 0.0 && c.path_resolution_m > 0.0 &&
          c.goal_xy_tolerance_m >= 0.0 && c.goal_yaw_tolerance_rad >= 0.0 &&
-         c.heuristic_downsample >= 1 && c.heuristic_downsample <= 16 &&
-         c.heuristic_weight >= 1.0 && c.heuristic_weight <= 10.0;
+         c.heuristic_downsample >= 1 && c.heuristic_downsample <= 16 && c.heuristic_weight >= 1.0 &&
+         c.heuristic_weight <= 10.0;
 }
 
 struct Primitive {
@@ -71,16 +72,26 @@ Pose2 compose(const Pose2& p, double c, double s, const Pose2& local) {
 
 const char* to_string(PlanStatus s) {
   switch (s) {
-    case PlanStatus::kSuccess: return "success";
-    case PlanStatus::kInvalidInput: return "invalid_input";
-    case PlanStatus::kStartOffMap: return "start_off_map";
-    case PlanStatus::kGoalOffMap: return "goal_off_map";
-    case PlanStatus::kStartInCollision: return "start_in_collision";
-    case PlanStatus::kGoalInCollision: return "goal_in_collision";
-    case PlanStatus::kMapUnknown: return "map_unknown";
-    case PlanStatus::kNoPath: return "no_path";
-    case PlanStatus::kTimedOut: return "timed_out";
-    case PlanStatus::kExpansionLimit: return "expansion_limit";
+    case PlanStatus::kSuccess:
+      return "success";
+    case PlanStatus::kInvalidInput:
+      return "invalid_input";
+    case PlanStatus::kStartOffMap:
+      return "start_off_map";
+    case PlanStatus::kGoalOffMap:
+      return "goal_off_map";
+    case PlanStatus::kStartInCollision:
+      return "start_in_collision";
+    case PlanStatus::kGoalInCollision:
+      return "goal_in_collision";
+    case PlanStatus::kMapUnknown:
+      return "map_unknown";
+    case PlanStatus::kNoPath:
+      return "no_path";
+    case PlanStatus::kTimedOut:
+      return "timed_out";
+    case PlanStatus::kExpansionLimit:
+      return "expansion_limit";
   }
   return "unknown";
 }
@@ -101,9 +112,9 @@ struct HybridAStar::Search {
   ObstacleHeuristic heuristic;
 };
 
-HybridAStar::HybridAStar(const Grid2D& map, const terrain::RobotConfig& robot,
-                         PlannerConfig config)
-    : map_(map, robot, config.map), config_(std::move(config)),
+HybridAStar::HybridAStar(const Grid2D& map, const terrain::RobotConfig& robot, PlannerConfig config)
+    : map_(map, robot, config.map),
+      config_(std::move(config)),
       search_(std::make_unique<Search>()) {}
 HybridAStar::~HybridAStar() = default;
 HybridAStar::HybridAStar(HybridAStar&&) noexcept = default;
@@ -150,7 +161,9 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
     if (b < 0) b += bins;
     return std::uint32_t(cell) * std::uint32_t(bins) + std::uint32_t(b);
   };
-  auto cost_mult = [&](long cell) { return 1.0 + c.tau_weight * (1.0 - map_.tau(std::size_t(cell))); };
+  auto cost_mult = [&](long cell) {
+    return 1.0 + c.tau_weight * (1.0 - map_.tau(std::size_t(cell)));
+  };
 
   Search& s = *search_;
   s.nodes.clear();
@@ -204,8 +217,7 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
   RsCurve shot, best_shot;
   int since_shot = 0;
   while (!s.open.empty()) {
-    if ((result.expansions & 7) == 0 && Clock::now() > deadline)
-      return fail(PlanStatus::kTimedOut);
+    if ((result.expansions & 7) == 0 && Clock::now() > deadline) return fail(PlanStatus::kTimedOut);
     if (result.expansions >= c.max_expansions) return fail(PlanStatus::kExpansionLimit);
     const auto [f_top, idx] = s.open.top();
     s.open.pop();
@@ -279,7 +291,8 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
       s.nodes.push_back({q, g, idx, pi, st, false});
       const int child = int(s.nodes.size()) - 1;
       s.state_node.set(st, child);
-      s.open.push({g + c.heuristic_weight * h - 1e-6 * g, child});  // f32; ties go to the deeper node
+      s.open.push(
+          {g + c.heuristic_weight * h - 1e-6 * g, child});  // f32; ties go to the deeper node
     }
   }
   if (goal_node < 0) return fail(PlanStatus::kNoPath);
@@ -294,8 +307,8 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
     const Pose2& from = s.nodes[node.parent].pose;
     const int n = std::max(1, int(std::ceil(std::abs(m.length_m) / c.path_resolution_m)));
     for (int k = 1; k <= n; ++k)
-      raw.push_back({k == n ? node.pose : drive(from, m.curvature, m.length_m * k / n),
-                     m.length_m < 0});
+      raw.push_back(
+          {k == n ? node.pose : drive(from, m.curvature, m.length_m * k / n), m.length_m < 0});
   }
   result.cost = s.nodes[goal_node].g;
   if (result.reached_by_shot) {

@@ -59,7 +59,8 @@ double ObstacleHeuristic::cost_m(long cell, std::chrono::steady_clock::time_poin
   while (!settled_[target] && !open_.empty()) {
     if (++since_clock == 512) {
       since_clock = 0;
-      if (std::chrono::steady_clock::now() > deadline) return std::numeric_limits<double>::quiet_NaN();
+      if (std::chrono::steady_clock::now() > deadline)
+        return std::numeric_limits<double>::quiet_NaN();
     }
     const auto [d, i] = open_.top();
     open_.pop();

@@ -17,8 +17,8 @@ namespace {
 // Cells (dx, dy) relative to the cell whose lower-left corner is the origin that the rectangle
 // centred at c (m, from that corner) with heading theta overlaps, by separating axes.
 template <typename F>
-void for_each_overlap(double cx, double cy, double theta, double half_l, double half_w,
-                      double res, F&& f) {
+void for_each_overlap(double cx, double cy, double theta, double half_l, double half_w, double res,
+                      F&& f) {
   const double ux = std::cos(theta), uy = std::sin(theta);
   const double vx = -uy, vy = ux;
   const double ex = half_l * std::abs(ux) + half_w * std::abs(vx);  // extent along x
@@ -142,13 +142,11 @@ bool PlanningMap::footprint_hits_blocked(const Pose2& pose, double margin_m) con
 std::vector<long> rectangle_cells(const GridGeometry& geometry, const Pose2& pose,
                                   double half_length_m, double half_width_m) {
   std::vector<long> cells;
-  for_each_overlap(pose.x_m - geometry.origin_m.x(), pose.y_m - geometry.origin_m.y(),
-                   pose.yaw_rad, half_length_m, half_width_m, geometry.resolution_m,
-                   [&](int ix, int iy) {
-                     cells.push_back(geometry.contains(ix, iy)
-                                         ? long(geometry.linear_index(ix, iy))
-                                         : -1L);
-                   });
+  for_each_overlap(
+      pose.x_m - geometry.origin_m.x(), pose.y_m - geometry.origin_m.y(), pose.yaw_rad,
+      half_length_m, half_width_m, geometry.resolution_m, [&](int ix, int iy) {
+        cells.push_back(geometry.contains(ix, iy) ? long(geometry.linear_index(ix, iy)) : -1L);
+      });
   return cells;
 }
 

@@ -85,7 +85,8 @@ Pose2 rs_pose_at(const Pose2& from, const RsCurve& curve, double radius_m, doubl
   double left = s_m;
   for (const RsSegment& seg : curve.segments) {
     if (left <= 0.0 || seg.kind == RsSegment::Kind::kNone) break;
-    const double v = seg.length_m < 0 ? std::max(-left, seg.length_m) : std::min(left, seg.length_m);
+    const double v =
+        seg.length_m < 0 ? std::max(-left, seg.length_m) : std::min(left, seg.length_m);
     left -= std::abs(v);
     p = advance(p, seg.kind, v, radius_m);
   }

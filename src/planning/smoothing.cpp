@@ -7,8 +7,8 @@
 #include "fieldlidar/planning/smoothing.hpp"
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -36,7 +36,8 @@ class Objective {
   double term(const Points& x, std::size_t i) const {
     double f = 0.0;
     const double d = map_.obstacle_distance_at(x[i].x(), x[i].y());
-    if (d < c_.obstacle_distance_m) f += c_.weight_obstacle * (c_.obstacle_distance_m - d) * (c_.obstacle_distance_m - d);
+    if (d < c_.obstacle_distance_m)
+      f += c_.weight_obstacle * (c_.obstacle_distance_m - d) * (c_.obstacle_distance_m - d);
     f += c_.weight_smoothness * (x[i + 1] - 2.0 * x[i] + x[i - 1]).squaredNorm();
     const double k = menger(x[i - 1], x[i], x[i + 1]);
     if (k > kappa_max_) f += c_.weight_curvature * (k - kappa_max_) * (k - kappa_max_);
@@ -180,17 +181,18 @@ Path smooth_path(const Path& path, const PlanningMap& map, double kappa_max,
     std::size_t b = a + 1;  // run [a, b]: samples a+1..b share a direction
     while (b + 1 < path.size() && path[b + 1].reverse == path[a + 1].reverse) ++b;
     // the run's vertices: about vertex_spacing_m apart, its ends included
-    const double spacing = path_length_m(Path(path.begin() + long(a), path.begin() + long(b) + 1)) /
-                           double(b - a);
-    const std::size_t k =
-        std::max<std::size_t>(1, std::size_t(std::lround(config.vertex_spacing_m / std::max(1e-6, spacing))));
+    const double spacing =
+        path_length_m(Path(path.begin() + long(a), path.begin() + long(b) + 1)) / double(b - a);
+    const std::size_t k = std::max<std::size_t>(
+        1, std::size_t(std::lround(config.vertex_spacing_m / std::max(1e-6, spacing))));
     std::vector<std::size_t> vi;
     for (std::size_t i = a; i < b; i += k) vi.push_back(i);
     if (vi.size() > 1 && 2 * (b - vi.back()) < k) vi.pop_back();  // no short last interval
     vi.push_back(b);
     if (vi.size() >= 8) {
       Points x0(vi.size()), x;
-      for (std::size_t j = 0; j < vi.size(); ++j) x0[j] = {path[vi[j]].pose.x_m, path[vi[j]].pose.y_m};
+      for (std::size_t j = 0; j < vi.size(); ++j)
+        x0[j] = {path[vi[j]].pose.x_m, path[vi[j]].pose.y_m};
       x = x0;
       r.iterations += conjugate_gradient(x, f, config.max_iterations);
       const Path base(path.begin() + long(a), path.begin() + long(b) + 1);
@@ -214,7 +216,8 @@ Path smooth_path(const Path& path, const PlanningMap& map, double kappa_max,
       std::vector<double> ramp(base.size(), 1.0);
       const double fade = 3.0 * double(k);
       for (std::size_t i = 0; i < base.size(); ++i) {
-        const double u = std::clamp(std::min(double(i), double(base.size() - 1 - i)) / fade, 0.0, 1.0);
+        const double u =
+            std::clamp(std::min(double(i), double(base.size() - 1 - i)) / fade, 0.0, 1.0);
         ramp[i] = u * u * u * (u * (6.0 * u - 15.0) + 10.0);  // smootherstep: C2 at both ends
       }
       // Where a sample still bends above kappa_max or touches a blocked cell (the search's
@@ -255,13 +258,16 @@ Path smooth_path(const Path& path, const PlanningMap& map, double kappa_max,
             const std::size_t hi = std::min(base.size() - 1, v + 4 * k);
             for (std::size_t i = lo; i <= hi; ++i) {
               const double dist = std::abs(double(i) - double(v));
-              local[i] = std::min(local[i], smootherstep(std::clamp((dist - kk) / (3.0 * kk), 0.0, 1.0)));
+              local[i] =
+                  std::min(local[i], smootherstep(std::clamp((dist - kk) / (3.0 * kk), 0.0, 1.0)));
             }
           }
         }
       }
-      if (accepted) alpha *= 2.0;  // undo the loop's last halving
-      else alpha = 0.0;
+      if (accepted)
+        alpha *= 2.0;  // undo the loop's last halving
+      else
+        alpha = 0.0;
       if (alpha <= 1.0 / 64) alpha = 0.0;
       kept_weight += alpha * double(b - a);
       kept_total += double(b - a);

@@ -104,12 +104,16 @@ TEST(HybridAStar, SmoothingShortensAndStraightensWithinBounds) {
   const auto r = planner.plan({4, 4, 0}, {36, 36, 0});
   ASSERT_TRUE(r.ok()) << to_string(r.status);
   const auto& s = r.smoothing;
-  EXPECT_LT(s.length_after_m, s.length_before_m - 0.2);    // 71.06 -> 70.70 m
+  EXPECT_LT(s.length_after_m, s.length_before_m - 0.2);         // 71.06 -> 70.70 m
   EXPECT_LT(s.turning_after_rad, 0.92 * s.turning_before_rad);  // 13.28 -> 11.59 rad
   EXPECT_GT(s.blend, 0.5);
   EXPECT_LE(s.max_curvature_after, 1.0 / c.min_turn_radius_m * (1 + 1e-6));
   for (const auto& p : r.path) EXPECT_FALSE(planner.map().footprint_hits_blocked(p.pose, 0.0));
-  std::printf("smoothing: length %.2f -> %.2f m, turning %.2f -> %.2f rad, blend %.2f, %d it, %.1f ms, search %.1f ms, %d exp\n", s.length_before_m, s.length_after_m, s.turning_before_rad, s.turning_after_rad, s.blend, s.iterations, r.smooth_ms, r.search_ms, r.expansions);
+  std::printf(
+      "smoothing: length %.2f -> %.2f m, turning %.2f -> %.2f rad, blend %.2f, %d it, %.1f ms, "
+      "search %.1f ms, %d exp\n",
+      s.length_before_m, s.length_after_m, s.turning_before_rad, s.turning_after_rad, s.blend,
+      s.iterations, r.smooth_ms, r.search_ms, r.expansions);
   RecordProperty("length_before_m", std::to_string(s.length_before_m));
   RecordProperty("length_after_m", std::to_string(s.length_after_m));
 }

@@ -41,8 +41,7 @@ inline void block(Grid2D& map, double x0, double y0, double x1, double y1) {
 /// A random field: tau in [0.3, 1], `blobs` impassable discs and rectangles.
 inline Grid2D random_map(std::mt19937& rng, double w_m, double h_m, int blobs) {
   Grid2D map = open_map(w_m, h_m);
-  std::uniform_real_distribution<double> ux(0.0, w_m), uy(0.0, h_m), tau(0.3, 1.0),
-      size(0.5, 4.0);
+  std::uniform_real_distribution<double> ux(0.0, w_m), uy(0.0, h_m), tau(0.3, 1.0), size(0.5, 4.0);
   const GridGeometry& g = map.geometry();
   auto t = map.layer(L::kTraversability);
   for (auto& v : t) v = float(tau(rng));

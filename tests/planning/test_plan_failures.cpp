@@ -37,8 +37,7 @@ TEST(PlanFailures, AbsurdRadiiAndBudgetsAreInvalidInput) {
   for (double r : {0.0, -1.0, 1e-6, 1e9, std::numeric_limits<double>::quiet_NaN()}) {
     PlannerConfig c;
     c.min_turn_radius_m = r;
-    EXPECT_EQ(plan_path(map, {}, {4, 4, 0}, {15, 15, 0}, c).status, PlanStatus::kInvalidInput)
-        << r;
+    EXPECT_EQ(plan_path(map, {}, {4, 4, 0}, {15, 15, 0}, c).status, PlanStatus::kInvalidInput) << r;
   }
   PlannerConfig c;
   c.time_budget_ms = -1;

@@ -75,7 +75,9 @@ TEST(PlanProperties, RandomMapsAndQueries) {
   RecordProperty("failures", failures);
   RecordProperty("checked_samples", checked_samples);
   EXPECT_GE(successes, 14);  // of 32 queries (the rest: no_path or timed_out, typed)
-  std::printf("random queries: %d planned, %d failed (typed), %d samples checked, worst kappa R_min %.6f\n", successes, failures, checked_samples, worst_kappa_ratio);
+  std::printf(
+      "random queries: %d planned, %d failed (typed), %d samples checked, worst kappa R_min %.6f\n",
+      successes, failures, checked_samples, worst_kappa_ratio);
   EXPECT_LE(worst_kappa_ratio, 1.0 + 1e-6);
 }
 

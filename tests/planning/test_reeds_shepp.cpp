@@ -31,7 +31,8 @@ TEST(ReedsShepp, LengthsAndSamplesMatchOmplOnRandomPairs) {
     sb->setXY(b.x_m, b.y_m);
     sb->setYaw(b.yaw_rad);
     const RsCurve c = reeds_shepp(a, b, r);
-    worst_length = std::max(worst_length, std::abs(c.length_m - space->distance(sa.get(), sb.get())));
+    worst_length =
+        std::max(worst_length, std::abs(c.length_m - space->distance(sa.get(), sb.get())));
     const Pose2 end = rs_pose_at(a, c, r, c.length_m);
     worst_end = std::max({worst_end, std::hypot(end.x_m - b.x_m, end.y_m - b.y_m),
                           std::abs(wrap_angle(end.yaw_rad - b.yaw_rad))});

@@ -28,7 +28,7 @@ struct PlannerConfig {
   double step_m = 0.0;
   /// Cost of a metre driven: (1 + tau_weight * (1 - tau)) (low tau costs more; seed 004).
   double tau_weight = 2.0;
-  double reverse_factor = 2.0;             ///< metres driven backwards cost this many times more
+  double reverse_factor = 2.0;              ///< metres driven backwards cost this many times more
   double direction_change_penalty_m = 3.0;  ///< added per switch between forward and reverse
   double turn_factor = 1.05;                ///< metres on an arc cost this many times more
   /// Reeds–Shepp shots to the goal are tried from nodes closer than this (m, straight line).
@@ -72,8 +72,8 @@ const char* to_string(PlanStatus status);
 
 struct PlanResult {
   PlanStatus status = PlanStatus::kNoPath;
-  Path path;      ///< smoothed when smoothing is on; empty on failure
-  Path raw_path;  ///< the search's path before smoothing
+  Path path;          ///< smoothed when smoothing is on; empty on failure
+  Path raw_path;      ///< the search's path before smoothing
   double cost = 0.0;  ///< g of the goal (m-equivalent)
   int expansions = 0;
   int shots_tried = 0;

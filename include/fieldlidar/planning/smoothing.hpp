@@ -9,10 +9,10 @@ namespace fieldlidar::planning {
 class PlanningMap;
 
 struct SmoothingConfig {
-  double weight_obstacle = 0.1;    ///< w_o on (d_max - d)^2 where the distance d < d_max
+  double weight_obstacle = 0.1;      ///< w_o on (d_max - d)^2 where the distance d < d_max
   double obstacle_distance_m = 0.8;  ///< d_max (to the nearest blocked cell centre)
-  double weight_smoothness = 4.0;  ///< w_s on |x_{i+1} - 2 x_i + x_{i-1}|^2
-  double weight_curvature = 200.0;  ///< w_k on (kappa - k_t)^2 where kappa > k_t
+  double weight_smoothness = 4.0;    ///< w_s on |x_{i+1} - 2 x_i + x_{i-1}|^2
+  double weight_curvature = 200.0;   ///< w_k on (kappa - k_t)^2 where kappa > k_t
   /// k_t = share * kappa_max: the term pulls below the bound so small overshoots are rare
   double curvature_target_share = 0.8;
   /// The smoothed path must not cost more: sum of length * (1 + tau_weight * (1 - tau)) (the
