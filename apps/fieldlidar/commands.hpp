@@ -21,5 +21,6 @@ void add_legs_train_command(CLI::App& app);
 void add_odometry_command(CLI::App& app);
 void add_trunks_command(CLI::App& app);
 void add_traversability_command(CLI::App& app);
+void add_plan_command(CLI::App& app);
 
 }  // namespace fieldlidar::app

@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   fieldlidar::app::add_odometry_command(app);
   fieldlidar::app::add_trunks_command(app);
   fieldlidar::app::add_traversability_command(app);
+  fieldlidar::app::add_plan_command(app);
 
   try {
     if (argc == 1)

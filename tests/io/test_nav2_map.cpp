@@ -80,3 +80,49 @@ TEST(Nav2Map, ScaleKeepsTheCostAndRefusesBadInput) {
 
 }  // namespace
 }  // namespace fieldlidar::io
+
+namespace fieldlidar::io {
+namespace {
+
+TEST(Nav2MapRead, DecodesWhatIsEncodedInBothModes) {
+  GridGeometry g;
+  g.resolution_m = 0.5;
+  g.origin_m = {-1.5, 2.0};
+  g.width = 3;
+  g.height = 2;
+  Grid2D grid(g);
+  auto tau = grid.add_layer("tau", std::numeric_limits<float>::quiet_NaN());
+  tau[g.linear_index(0, 0)] = 0.0f;
+  tau[g.linear_index(1, 0)] = 1.0f;
+  tau[g.linear_index(0, 1)] = 0.9f;
+  tau[g.linear_index(1, 1)] = 0.2f;
+  for (const std::string mode : {"trinary", "scale"}) {
+    Nav2MapConfig c;
+    c.mode = mode;
+    const Nav2Map m = encode_nav2_map(grid, "tau", "map.pgm", c);
+    const Grid2D back = decode_nav2_map(m.yaml, m.pgm, "tau", "map.yaml");
+    EXPECT_EQ(back.geometry().width, 3);
+    EXPECT_EQ(back.geometry().height, 2);
+    EXPECT_DOUBLE_EQ(back.geometry().origin_m.x(), -1.5);
+    EXPECT_DOUBLE_EQ(back.geometry().origin_m.y(), 2.0);
+    const auto t = back.layer("tau");
+    EXPECT_EQ(t[g.linear_index(0, 0)], 0.0f) << mode;
+    EXPECT_EQ(t[g.linear_index(1, 0)], 1.0f) << mode;
+    EXPECT_TRUE(std::isnan(t[g.linear_index(2, 0)])) << mode;
+    EXPECT_TRUE(std::isnan(t[g.linear_index(2, 1)])) << mode;
+    if (mode == "scale") EXPECT_NEAR(t[g.linear_index(1, 1)], 0.2f, 0.005f);
+    else EXPECT_EQ(t[g.linear_index(1, 1)], 0.0f);  // cost 0.8 > 0.65: occupied
+  }
+}
+
+TEST(Nav2MapRead, MalformedFilesNameTheField) {
+  const std::string pgm = "P5\n1 1\n255\n\xfe";
+  EXPECT_THROW(decode_nav2_map("image: a.pgm\n", pgm, "tau", "a.yaml"), Error);  // no resolution
+  EXPECT_THROW(decode_nav2_map("resolution: x\n", pgm, "tau", "a.yaml"), Error);
+  EXPECT_THROW(decode_nav2_map("resolution: 0.5\n", "P2\n1 1\n255\n1", "tau", "a.yaml"), Error);
+  EXPECT_THROW(decode_nav2_map("resolution: 0.5\n", "P5\n4 4\n255\n\x01", "tau", "a.yaml"), Error);
+  EXPECT_EQ(decode_nav2_map("resolution: 0.5\n", pgm, "tau", "a.yaml").layer("tau")[0], 1.0f);
+}
+
+}  // namespace
+}  // namespace fieldlidar::io

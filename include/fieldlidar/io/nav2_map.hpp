@@ -3,6 +3,7 @@
 /// YAML description. Image row 0 is the map's top (largest y); `origin` is the world position of
 /// the lower-left pixel's corner.
 
+#include <filesystem>
 #include <string>
 
 #include "fieldlidar/core/grid2d.hpp"
@@ -36,5 +37,15 @@ struct Nav2Map {
 /// fieldlidar::Error naming the layer when it is missing, the grid is empty or the mode unknown.
 Nav2Map encode_nav2_map(const Grid2D& grid, const std::string& tau_layer,
                         const std::string& image_name, const Nav2MapConfig& config = {});
+
+/// Decodes a map_server map (its YAML text and P5 PGM bytes, negate 0 or 1) into layer
+/// `tau_layer`: "trinary" occupied -> tau 0, free -> 1, in between -> NaN (unknown); "scale"
+/// p / 254 with the unknown grey 205 -> NaN (the inverse of encode_nav2_map). Throws
+/// fieldlidar::Error naming `source` and the field on a malformed file.
+Grid2D decode_nav2_map(const std::string& yaml, const std::string& pgm, const std::string& tau_layer,
+                       const std::string& source);
+
+/// Reads `yaml_path` and the image it names (relative to the YAML's folder).
+Grid2D read_nav2_map(const std::filesystem::path& yaml_path, const std::string& tau_layer);
 
 }  // namespace fieldlidar::io

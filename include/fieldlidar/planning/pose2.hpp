@@ -1,0 +1,42 @@
+#pragma once
+/// \file Planar poses and paths of a ground robot (map frame, metres, radians).
+
+#include <vector>
+
+namespace fieldlidar::planning {
+
+/// A pose in the map plane: position (m) and heading yaw (rad, counter-clockwise from +x).
+struct Pose2 {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double yaw_rad = 0.0;
+};
+
+/// One sample of a planned path; `reverse` when the robot drives backwards on the way to it.
+struct PathPose {
+  Pose2 pose;
+  bool reverse = false;
+};
+
+using Path = std::vector<PathPose>;
+
+/// Angle wrapped to (-pi, pi].
+double wrap_angle(double a_rad);
+
+/// Length (m) of the polyline through the path's positions.
+double path_length_m(const Path& path);
+
+/// Menger curvature (1/m) at sample i (circle through samples i-1, i, i+1; 0 at the ends and
+/// where the three coincide or the direction of travel changes).
+double menger_curvature(const Path& path, std::size_t i);
+
+/// Largest Menger curvature (1/m) over the path.
+double max_curvature(const Path& path);
+
+/// Sum of |heading change| (rad) between consecutive samples: how much the path turns.
+double total_turning_rad(const Path& path);
+
+/// Number of changes between forward and reverse driving.
+int direction_changes(const Path& path);
+
+}  // namespace fieldlidar::planning

@@ -1,0 +1,112 @@
+// Reeds–Shepp curves from OMPL (ReedsSheppStateSpace solves all 48 words); sampling of a curve
+// is the closed-form integration of its arcs and straights, scaled by the turning radius.
+
+#include "fieldlidar/planning/reeds_shepp.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <ompl/base/ScopedState.h>
+#include <ompl/base/spaces/ReedsSheppStateSpace.h>
+
+namespace fieldlidar::planning {
+namespace {
+
+namespace ob = ompl::base;
+
+RsSegment::Kind kind_of(ob::ReedsSheppStateSpace::ReedsSheppPathSegmentType t) {
+  switch (t) {
+    case ob::ReedsSheppStateSpace::RS_LEFT:
+      return RsSegment::Kind::kLeft;
+    case ob::ReedsSheppStateSpace::RS_STRAIGHT:
+      return RsSegment::Kind::kStraight;
+    case ob::ReedsSheppStateSpace::RS_RIGHT:
+      return RsSegment::Kind::kRight;
+    default:
+      return RsSegment::Kind::kNone;
+  }
+}
+
+// Pose after driving signed length v (m) on one segment.
+Pose2 advance(const Pose2& p, RsSegment::Kind kind, double v_m, double radius_m) {
+  const double phi = p.yaw_rad;
+  const double a = v_m / radius_m;
+  switch (kind) {
+    case RsSegment::Kind::kLeft:
+      return {p.x_m + radius_m * (std::sin(phi + a) - std::sin(phi)),
+              p.y_m - radius_m * (std::cos(phi + a) - std::cos(phi)), wrap_angle(phi + a)};
+    case RsSegment::Kind::kRight:
+      return {p.x_m - radius_m * (std::sin(phi - a) - std::sin(phi)),
+              p.y_m + radius_m * (std::cos(phi - a) - std::cos(phi)), wrap_angle(phi - a)};
+    case RsSegment::Kind::kStraight:
+      return {p.x_m + v_m * std::cos(phi), p.y_m + v_m * std::sin(phi), phi};
+    default:
+      return p;
+  }
+}
+
+}  // namespace
+
+RsCurve reeds_shepp(const Pose2& from, const Pose2& to, double radius_m) {
+  // OMPL solves in units of the radius, from the origin: only relative poses matter, so a unit
+  // space is shared by every call (the solver itself is stateless).
+  // The two OMPL states are allocated once per thread (a state needs its space to allocate it).
+  struct UnitStates {
+    ob::ReedsSheppStateSpace space{1.0};
+    ob::SE2StateSpace::StateType* a = space.allocState()->as<ob::SE2StateSpace::StateType>();
+    ob::SE2StateSpace::StateType* b = space.allocState()->as<ob::SE2StateSpace::StateType>();
+    ~UnitStates() {
+      space.freeState(a);
+      space.freeState(b);
+    }
+  };
+  thread_local UnitStates unit;
+  const double dx = (to.x_m - from.x_m) / radius_m, dy = (to.y_m - from.y_m) / radius_m;
+  unit.a->setXY(0.0, 0.0);
+  unit.a->setYaw(from.yaw_rad);
+  unit.b->setXY(dx, dy);
+  unit.b->setYaw(to.yaw_rad);
+  const auto p = unit.space.reedsShepp(unit.a, unit.b);
+  RsCurve curve;
+  for (int i = 0; i < 5; ++i) {
+    curve.segments[i].kind = kind_of(p.type_[i]);
+    curve.segments[i].length_m = p.length_[i] * radius_m;
+  }
+  curve.length_m = p.totalLength_ * radius_m;
+  return curve;
+}
+
+double reeds_shepp_length_m(const Pose2& from, const Pose2& to, double radius_m) {
+  return reeds_shepp(from, to, radius_m).length_m;
+}
+
+Pose2 rs_pose_at(const Pose2& from, const RsCurve& curve, double radius_m, double s_m) {
+  Pose2 p = from;
+  double left = s_m;
+  for (const RsSegment& seg : curve.segments) {
+    if (left <= 0.0 || seg.kind == RsSegment::Kind::kNone) break;
+    const double v =
+        seg.length_m < 0 ? std::max(-left, seg.length_m) : std::min(left, seg.length_m);
+    left -= std::abs(v);
+    p = advance(p, seg.kind, v, radius_m);
+  }
+  return p;
+}
+
+Path rs_sample(const Pose2& from, const RsCurve& curve, double radius_m, double step_m) {
+  Path path{{from, false}};
+  Pose2 p = from;
+  for (const RsSegment& seg : curve.segments) {
+    if (seg.kind == RsSegment::Kind::kNone || std::abs(seg.length_m) < 1e-9) continue;
+    const int n = std::max(1, int(std::ceil(std::abs(seg.length_m) / step_m)));
+    const double v = seg.length_m / n;
+    for (int k = 0; k < n; ++k) {
+      p = advance(p, seg.kind, v, radius_m);
+      path.push_back({p, seg.length_m < 0});
+    }
+  }
+  if (path.size() > 1) path[0].reverse = path[1].reverse;
+  return path;
+}
+
+}  // namespace fieldlidar::planning

@@ -1,0 +1,78 @@
+// End-to-end: fieldlidar plan on a saved nav2 map with a wall: a path round it (CSV, GeoJSON,
+// PNG, summary), and the typed failure of a goal in the wall.
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "fieldlidar/io/file_util.hpp"
+#include "fieldlidar/io/nav2_map.hpp"
+#include "run_cli.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp_file(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), {}};
+}
+
+// 30 x 20 m of 0.5 m cells, free, with a wall x in [14, 16], y < 14 m.
+void write_map(const fs::path& dir) {
+  GridGeometry g;
+  g.resolution_m = 0.5;
+  g.width = 60;
+  g.height = 40;
+  Grid2D grid(g);
+  auto tau = grid.add_layer("tau", 1.0f);
+  for (int iy = 0; iy < 28; ++iy)
+    for (int ix = 28; ix < 32; ++ix) tau[g.linear_index(ix, iy)] = 0.0f;
+  const io::Nav2Map m = io::encode_nav2_map(grid, "tau", "traversability.pgm");
+  fs::create_directories(dir);
+  io::write_file_atomic(dir / "traversability.pgm", m.pgm, true);
+  io::write_file_atomic(dir / "traversability.yaml", m.yaml, true);
+}
+
+TEST(CliPlan, PathRoundAWallAndATypedFailure) {
+  const auto dir = temp_dir("cli_plan");
+  write_map(dir / "map");
+  const auto out = dir / "out";
+  const auto r = run_cli("plan --map " + quoted(dir / "map") +
+                         " --start 5,5,0 --goal 25,5,0 --out " + quoted(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* n : {"path.csv", "path_raw.csv", "path.geojson", "plan.png", "summary.json"})
+    EXPECT_TRUE(fs::exists(out / n)) << n;
+  const auto j = nlohmann::json::parse(slurp_file(out / "summary.json"));
+  EXPECT_EQ(j["status"], "success");
+  // Round the wall's end at y = 14 m (plus the half width): at least 2 * hypot(10, 9.3) = 27.3 m
+  // (29.3 m planned).
+  EXPECT_GT(j["length_m"].get<double>(), 27.3);
+  EXPECT_LT(j["length_m"].get<double>(), 34.0);
+  EXPECT_LE(j["max_curvature_per_m"].get<double>(), 1.0 + 1e-6);
+  const auto g = nlohmann::json::parse(slurp_file(out / "path.geojson"));
+  EXPECT_EQ(g["features"][0]["geometry"]["type"], "LineString");
+
+  const auto bad = run_cli("plan --map " + quoted(dir / "map") +
+                           " --start 5,5,0 --goal 15,5,0 --out " + quoted(dir / "out2"));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("goal_in_collision"), std::string::npos) << bad.output;
+  const auto jb = nlohmann::json::parse(slurp_file(dir / "out2" / "summary.json"));
+  EXPECT_EQ(jb["status"], "goal_in_collision");
+  EXPECT_FALSE(fs::exists(dir / "out2" / "path.csv"));
+
+  const auto nan = run_cli("plan --map " + quoted(dir / "map") +
+                           " --start 5,5 --goal 25,5,0 --out " + quoted(dir / "out3"));
+  EXPECT_EQ(nan.exit_code, 1);
+  EXPECT_NE(nan.output.find("--start"), std::string::npos) << nan.output;
+}
+
+}  // namespace
+}  // namespace fieldlidar::test

@@ -1,0 +1,122 @@
+// Hybrid A* on hand-built maps with known answers: a corridor, a maze, a U-trap that needs a
+// reverse manoeuvre, an unreachable goal, and a field of low tau the plan goes round.
+
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "fieldlidar/planning/hybrid_astar.hpp"
+#include "test_maps.hpp"
+
+namespace fieldlidar::planning {
+namespace {
+
+using test::block;
+using test::open_map;
+
+bool has_reverse(const Path& p) {
+  for (const auto& s : p)
+    if (s.reverse) return true;
+  return false;
+}
+
+TEST(HybridAStar, CorridorIsDrivenStraight) {
+  Grid2D map = open_map(30, 6);
+  block(map, 0, 0, 30, 1.5);
+  block(map, 0, 4.0, 30, 6);
+  HybridAStar planner(map, {});
+  const auto r = planner.plan({2, 2.75, 0}, {28, 2.75, 0});
+  ASSERT_TRUE(r.ok()) << to_string(r.status);
+  EXPECT_NEAR(path_length_m(r.path), 26.0, 0.3);
+  EXPECT_FALSE(has_reverse(r.path));
+  EXPECT_LT(r.search_ms, 50.0);
+}
+
+TEST(HybridAStar, MazeIsSolvedRoundBothWalls) {
+  Grid2D map = open_map(30, 30);
+  block(map, 9, 0, 10, 22);
+  block(map, 19, 8, 20, 30);
+  HybridAStar planner(map, {});
+  const auto r = planner.plan({4, 4, M_PI / 2}, {26, 26, M_PI / 2});
+  ASSERT_TRUE(r.ok()) << to_string(r.status);
+  const double len = path_length_m(r.path);
+  EXPECT_GT(len, 58.0);  // over the first wall's end, under the second's
+  EXPECT_LT(len, 75.0);
+  for (const auto& s : r.path) EXPECT_FALSE(planner.map().footprint_hits_blocked(s.pose, 0.0));
+}
+
+TEST(HybridAStar, UTrapNeedsReversing) {
+  // A 1.6 m wide dead end (too narrow to turn round at R = 1 m) with the robot facing its end.
+  Grid2D map = open_map(24, 30);
+  block(map, 8, 13.0, 17, 14.2);
+  block(map, 8, 15.8, 17, 17.0);
+  block(map, 16, 13.0, 17, 17.0);
+  HybridAStar planner(map, {});
+  const auto r = planner.plan({14, 15, 0}, {4, 15, M_PI});
+  ASSERT_TRUE(r.ok()) << to_string(r.status);
+  EXPECT_TRUE(has_reverse(r.path));
+  EXPECT_GE(direction_changes(r.path), 1);
+  for (const auto& s : r.path) EXPECT_FALSE(planner.map().footprint_hits_blocked(s.pose, 0.0));
+}
+
+TEST(HybridAStar, EnclosedGoalIsReportedUnreachableAtOnce) {
+  Grid2D map = open_map(30, 30);
+  block(map, 18, 18, 28, 19);
+  block(map, 18, 27, 28, 28);
+  block(map, 18, 18, 19, 28);
+  block(map, 27, 18, 28, 28);
+  HybridAStar planner(map, {});
+  const auto r = planner.plan({4, 4, 0}, {23, 23, 0});
+  EXPECT_EQ(r.status, PlanStatus::kNoPath);
+  EXPECT_TRUE(r.path.empty());
+  EXPECT_LT(r.search_ms, 100.0);
+}
+
+TEST(HybridAStar, LowTauIsAvoidedWhenADetourIsCheap) {
+  Grid2D map = open_map(30, 20);
+  auto tau = map.layer(terrain::layer::kTraversability);
+  const GridGeometry& g = map.geometry();
+  for (int iy = 0; iy < g.height; ++iy)
+    for (int ix = 0; ix < g.width; ++ix) {
+      const auto c = g.cell_center(ix, iy);
+      if (c.x() > 12 && c.x() < 18 && c.y() > 4 && c.y() < 16) tau[g.linear_index(ix, iy)] = 0.1f;
+    }
+  PlannerConfig c;
+  c.heuristic_weight = 1.0;  // weighted A* may accept a path up to w times costlier
+  HybridAStar planner(map, {}, c);
+  const auto r = planner.plan({3, 10, 0}, {27, 10, 0});
+  ASSERT_TRUE(r.ok()) << to_string(r.status);
+  int in_low = 0;
+  for (const auto& s : r.path) {
+    const long i = planner.map().cell_index(s.pose.x_m, s.pose.y_m);
+    in_low += planner.map().tau(std::size_t(i)) < 0.5f;
+  }
+  EXPECT_EQ(in_low, 0);
+}
+
+TEST(HybridAStar, SmoothingShortensAndStraightensWithinBounds) {
+  Grid2D map = open_map(40, 40);
+  block(map, 12, 0, 14, 25);
+  block(map, 24, 15, 26, 40);
+  PlannerConfig c;
+  HybridAStar planner(map, {}, c);
+  const auto r = planner.plan({4, 4, 0}, {36, 36, 0});
+  ASSERT_TRUE(r.ok()) << to_string(r.status);
+  const auto& s = r.smoothing;
+  EXPECT_LT(s.length_after_m, s.length_before_m - 0.2);         // 71.06 -> 70.70 m
+  EXPECT_LT(s.turning_after_rad, 0.92 * s.turning_before_rad);  // 13.28 -> 11.59 rad
+  EXPECT_GT(s.blend, 0.5);
+  EXPECT_LE(s.max_curvature_after, 1.0 / c.min_turn_radius_m * (1 + 1e-6));
+  for (const auto& p : r.path) EXPECT_FALSE(planner.map().footprint_hits_blocked(p.pose, 0.0));
+  std::printf(
+      "smoothing: length %.2f -> %.2f m, turning %.2f -> %.2f rad, blend %.2f, %d it, %.1f ms, "
+      "search %.1f ms, %d exp\n",
+      s.length_before_m, s.length_after_m, s.turning_before_rad, s.turning_after_rad, s.blend,
+      s.iterations, r.smooth_ms, r.search_ms, r.expansions);
+  RecordProperty("length_before_m", std::to_string(s.length_before_m));
+  RecordProperty("length_after_m", std::to_string(s.length_after_m));
+}
+
+}  // namespace
+}  // namespace fieldlidar::planning
