@@ -62,9 +62,14 @@ ReplayFrame FollowReplay::step(PointCloud cloud, double stamp_s,
   if (is_planar_scan(cloud)) {
     // A 2D scan: the leg pipeline tracks legs and persons in the odometry frame.
     const Eigen::Isometry2d T_2d = isometry_2d(planar(T));
-    const auto det = legs_2d_.process(stamp_s, people::scan_points_2d(cloud), T_2d);
+    // Without recorded odometry the leg pipeline estimates its own ego-motion by scan matching
+    // (a robot taken as still that is not, or a shaking mount, would otherwise smear static
+    // returns into leg tracks); its persons are then placed from the sensor frame.
+    const auto det = T_odom_base
+                         ? legs_2d_.process(stamp_s, people::scan_points_2d(cloud), T_2d)
+                         : legs_2d_.process(stamp_s, people::scan_points_2d(cloud));
     for (const auto& l : det.legs) perception.legs_m.push_back(T_2d * l.position_m);
-    for (const auto& p : det.people) perception.people_m.push_back(p.position_world_m);
+    for (const auto& p : det.people) perception.people_m.push_back(T_2d * p.position_m);
   } else {
     ensure_rings(cloud, sensor_);
     perception = perceive(cloud, sensor_, T, config_.follow);
