@@ -30,7 +30,7 @@ TEST(HybridAStar, CorridorIsDrivenStraight) {
   ASSERT_TRUE(r.ok()) << to_string(r.status);
   EXPECT_NEAR(path_length_m(r.path), 26.0, 0.3);
   EXPECT_FALSE(has_reverse(r.path));
-  EXPECT_LT(r.search_ms, 50.0);
+  EXPECT_LT(r.expansions, 60);  // measured 16: the heuristic leads straight down the corridor
 }
 
 TEST(HybridAStar, MazeIsSolvedRoundBothWalls) {
@@ -70,7 +70,7 @@ TEST(HybridAStar, EnclosedGoalIsReportedUnreachableAtOnce) {
   const auto r = planner.plan({4, 4, 0}, {23, 23, 0});
   EXPECT_EQ(r.status, PlanStatus::kNoPath);
   EXPECT_TRUE(r.path.empty());
-  EXPECT_LT(r.search_ms, 100.0);
+  EXPECT_LT(r.expansions, 10);  // measured 0: the grid Dijkstra finds the goal enclosed
 }
 
 TEST(HybridAStar, LowTauIsAvoidedWhenADetourIsCheap) {

@@ -166,6 +166,6 @@ TEST(TerrainReal, AirborneSlopeAgainstClassifiedGround) {
       // own plane 3.04 / 3.25 deg. Class 2 is ~0.25 returns per m2: few 3 m cells hold 5 of them.
       EXPECT_GT(m, cell_m > 4 ? 400 : 30);
       EXPECT_LT(rmse, fused ? 3.5 : 7.5);
-      EXPECT_LT(cpu_s, 0.5);
+      // Time is printed, not asserted: bench_terrain measures it (0.01-0.04 s in Release).
     }
 }
