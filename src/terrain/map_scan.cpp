@@ -3,8 +3,28 @@
 #include <vector>
 
 #include "fieldlidar/terrain/traversability.hpp"
+#include "scan_points.hpp"
 
 namespace fieldlidar::terrain {
+
+ScanPoints scan_points_in_map(const PointCloud& scan, const SensorModel& sensor,
+                              const Pose& T_map_lidar, const TraversabilityConfig& config) {
+  ScanPoints out;
+  if (scan.valid_count() == 0) return out;
+  const Eigen::Vector2d sensor_xy = T_map_lidar.translation().head<2>();
+  const auto g = segmentation::segment_ground(scan, sensor, config.ground);
+  out.points_m.reserve(scan.size());
+  out.is_ground.reserve(scan.size());
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const Point& p = scan.points[i];
+    if (!p.is_valid()) continue;
+    const Eigen::Vector3d q = T_map_lidar * p.xyz().cast<double>();
+    if ((q.head<2>() - sensor_xy).norm() > config.max_range_m) continue;
+    out.points_m.push_back(q);
+    out.is_ground.push_back(g.is_ground[i]);
+  }
+  return out;
+}
 
 Grid2D map_scan(const PointCloud& scan, const SensorModel& sensor, const Pose& T_map_lidar,
                 const TraversabilityConfig& config) {
@@ -16,22 +36,8 @@ Grid2D map_scan(const PointCloud& scan, const SensorModel& sensor, const Pose& T
       ((sensor_m.head<2>().array() - r) / config.cell_m).floor().matrix() * config.cell_m;
   const GridGeometry geometry =
       GridGeometry::covering(lo, sensor_m.head<2>() + Eigen::Vector2d(r, r), config.cell_m);
-  std::vector<Eigen::Vector3d> pts;
-  std::vector<std::uint8_t> ground;
-  if (scan.valid_count() > 0) {
-    const auto g = segmentation::segment_ground(scan, sensor, config.ground);
-    pts.reserve(scan.size());
-    ground.reserve(scan.size());
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      const Point& p = scan.points[i];
-      if (!p.is_valid()) continue;
-      const Eigen::Vector3d q = T_map_lidar * p.xyz().cast<double>();
-      if ((q.head<2>() - sensor_m.head<2>()).norm() > r) continue;
-      pts.push_back(q);
-      ground.push_back(g.is_ground[i]);
-    }
-  }
-  return build_layers(pts, ground, geometry, config);
+  const ScanPoints in_map = scan_points_in_map(scan, sensor, T_map_lidar, config);
+  return build_layers(in_map.points_m, in_map.is_ground, geometry, config);
 }
 
 Grid2D map_area(const PointCloud& cloud, const TraversabilityConfig& config) {

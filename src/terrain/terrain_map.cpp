@@ -9,6 +9,7 @@
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/terrain/robot_config.hpp"
 #include "fused_cell.hpp"
+#include "scan_points.hpp"
 
 namespace fieldlidar::terrain {
 
@@ -76,24 +77,8 @@ const FusionConfig& TerrainMap::config() const {
 
 FusionUpdate TerrainMap::add_scan(const PointCloud& scan, const SensorModel& sensor,
                                   const Pose& T_map_lidar) {
-  const TraversabilityConfig& c = impl_->config.layers;
-  const Eigen::Vector3d sensor_m = T_map_lidar.translation();
-  std::vector<Eigen::Vector3d> pts;
-  std::vector<std::uint8_t> ground;
-  if (scan.valid_count() > 0) {
-    const auto g = segmentation::segment_ground(scan, sensor, c.ground);
-    pts.reserve(scan.size());
-    ground.reserve(scan.size());
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      const Point& p = scan.points[i];
-      if (!p.is_valid()) continue;
-      const Eigen::Vector3d q = T_map_lidar * p.xyz().cast<double>();
-      if ((q.head<2>() - sensor_m.head<2>()).norm() > c.max_range_m) continue;
-      pts.push_back(q);
-      ground.push_back(g.is_ground[i]);
-    }
-  }
-  return add_points(pts, ground, sensor_m);
+  const ScanPoints in_map = scan_points_in_map(scan, sensor, T_map_lidar, impl_->config.layers);
+  return add_points(in_map.points_m, in_map.is_ground, T_map_lidar.translation());
 }
 
 FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
