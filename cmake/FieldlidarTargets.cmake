@@ -34,11 +34,13 @@ function(fieldlidar_add_module name)
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endfunction()
 
-# fieldlidar_add_test(NAME SOURCES ... LIBS ... [LABELS ...])
+# fieldlidar_add_test(NAME SOURCES ... LIBS ... [LABELS ...] [SLOW Suite.Test ...])
 # A GoogleTest executable whose tests are registered with CTest. Tests that read real data get
 # FIELDLIDAR_DATA_DIR as an environment variable and skip with a message when it is absent.
+# SLOW names single tests of the executable (gtest filter patterns) that get the "slow" label
+# instead: whole-recording runs that take minutes under the sanitizers and run in Release only.
 function(fieldlidar_add_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;SLOW" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} fieldlidar_test_support GTest::gtest_main)
   fieldlidar_target_options(${name})
@@ -52,7 +54,15 @@ function(fieldlidar_add_test name)
   if(ARG_LABELS)
     list(GET ARG_LABELS 0 label)
   endif()
-  gtest_discover_tests(${name}
+  set(filter "")
+  if(ARG_SLOW)
+    list(JOIN ARG_SLOW ":" slow_tests)
+    gtest_discover_tests(${name} TEST_FILTER "${slow_tests}"
+      PROPERTIES ENVIRONMENT "FIELDLIDAR_DATA_DIR=${FIELDLIDAR_DATA_DIR}" LABELS slow
+      DISCOVERY_TIMEOUT 60)
+    set(filter TEST_FILTER "-${slow_tests}")
+  endif()
+  gtest_discover_tests(${name} ${filter}
     PROPERTIES ENVIRONMENT "FIELDLIDAR_DATA_DIR=${FIELDLIDAR_DATA_DIR}" LABELS "${label}"
     DISCOVERY_TIMEOUT 60)
 endfunction()
