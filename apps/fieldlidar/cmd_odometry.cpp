@@ -141,11 +141,8 @@ bool bag_topic(const std::string& value, const fs::path& input) {
 }
 
 /// sensor_msgs/Imu messages of a bag topic (taken as the base frame: no extrinsics are read).
-std::vector<odometry::ImuSample> read_imu_bag(const fs::path& bag, const std::string& topic) {
-  std::vector<odometry::ImuSample> out;
-  for (const auto& m : io::read_imu_topic(bag, topic))
-    out.push_back({m.stamp_s, m.gyro_rad_s, m.accel_m_s2});
-  return out;
+std::vector<ImuSample> read_imu_bag(const fs::path& bag, const std::string& topic) {
+  return io::read_imu_topic(bag, topic);
 }
 
 /// Wheel speeds from nav_msgs/Odometry or geometry_msgs/TwistStamped of a bag topic: forward

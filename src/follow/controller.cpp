@@ -6,12 +6,6 @@
 
 namespace fieldlidar::follow {
 
-namespace {
-double wrap(double a) {
-  return std::remainder(a, 2 * M_PI);
-}
-}  // namespace
-
 std::string to_string(FollowState s) {
   switch (s) {
     case FollowState::kIdle:
@@ -131,7 +125,7 @@ double choose_dv(const Pose2& pose, double v, const Trail& trail, const DriveCon
     const auto pr = trail.project(q.xy());
     if (!pr.valid) return std::numeric_limits<double>::infinity();
     const double e_p = pr.lateral_m;                             // lateral error
-    const double e_fai = wrap(q.yaw_rad - pr.heading_rad);       // heading error
+    const double e_fai = wrap_angle(q.yaw_rad - pr.heading_rad);       // heading error
     return std::pow(d.lateral_weight * e_p, 2) + e_fai * e_fai;  // seed 000: (k e_p)^2 + e_fai^2
   };
   const double step = 2 * d.max_dv_m_s / (n - 1);
@@ -172,12 +166,12 @@ FollowController::Output FollowController::step(const Pose2& mower,
   double v_des = std::clamp(drive_.speed_gain_1_s * (out.distance_m - drive_.follow_distance_m),
                             0.0, drive_.max_speed_m_s);
   const bool hold = v_des <= 0.0;  // close enough: stand still rather than turn in place
-  if (here.valid) v_des *= std::max(0.0, std::cos(wrap(mower.yaw_rad - here.heading_rad)));
+  if (here.valid) v_des *= std::max(0.0, std::cos(wrap_angle(mower.yaw_rad - here.heading_rad)));
   // Slow down before a corner: the trail's direction one prediction horizon ahead differs.
   const auto ahead =
       trail.project(predict_pose(mower, v_, 0.0, drive_.track_width_m, drive_.prediction_s).xy());
   if (here.valid && ahead.valid)
-    v_des *= std::max(0.3, std::cos(wrap(ahead.heading_rad - here.heading_rad)));
+    v_des *= std::max(0.3, std::cos(wrap_angle(ahead.heading_rad - here.heading_rad)));
   const double dv_acc = drive_.max_accel_m_s2 * dt;
   double v = std::clamp(v_des, v_ - dv_acc, v_ + dv_acc);
   double dv = hold ? 0.0 : choose_dv(mower, v, trail, drive_);

@@ -8,13 +8,6 @@
 
 namespace fieldlidar::planning {
 
-double wrap_angle(double a_rad) {
-  const double two_pi = 2.0 * std::numbers::pi;
-  double a = std::fmod(a_rad + std::numbers::pi, two_pi);
-  if (a <= 0.0) a += two_pi;
-  return a - std::numbers::pi;
-}
-
 double path_length_m(const Path& path) {
   double length = 0.0;
   for (std::size_t i = 1; i < path.size(); ++i)

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "fieldlidar/core/pose2.hpp"
 #include "fieldlidar/segmentation/range_image.hpp"
 #include "polar_grid.hpp"
 
@@ -10,12 +11,6 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kMaxBackStepRad = 0.2;
-
-double wrap_pi(double a) {
-  while (a > std::numbers::pi) a -= kTwoPi;
-  while (a <= -std::numbers::pi) a += kTwoPi;
-  return a;
-}
 
 double elevation_of(const Point& p) {
   return std::atan2(double(p.z), std::hypot(double(p.x), double(p.y)));
@@ -61,7 +56,7 @@ bool rings_from_scan_order(const PointCloud& cloud, std::size_t count,
     if (!valid_point(p)) continue;
     const double az = fast_atan2(p.y, p.x);
     if (have_prev) {
-      const double d = wrap_pi(az - prev);
+      const double d = wrap_angle(az - prev);
       if (std::abs(d) < 0.1) votes += d > 0 ? 1 : -1;
     }
     prev = az;

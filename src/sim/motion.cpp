@@ -6,6 +6,8 @@
 #include <random>
 #include <stdexcept>
 
+#include "fieldlidar/core/pose2.hpp"
+
 namespace fieldlidar::sim {
 
 namespace {
@@ -50,12 +52,6 @@ class Route {
   bool closed_;
   std::vector<double> cum_;
 };
-
-double wrap_angle(double a) {
-  while (a > std::numbers::pi) a -= 2 * std::numbers::pi;
-  while (a < -std::numbers::pi) a += 2 * std::numbers::pi;
-  return a;
-}
 
 /// Pure pursuit with speed, acceleration and yaw-rate limits; `target_speed(t, s)` caps the speed
 /// at time t and route progress s.

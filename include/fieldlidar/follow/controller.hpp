@@ -11,13 +11,12 @@
 
 #include <Eigen/Core>
 
+#include "fieldlidar/core/pose2.hpp"
+
 namespace fieldlidar::follow {
 
 /// Planar pose of the mower (world frame): position of the sensor axis and heading.
-struct Pose2 {
-  double x_m = 0, y_m = 0, yaw_rad = 0;
-  Eigen::Vector2d xy() const { return {x_m, y_m}; }
-};
+using fieldlidar::Pose2;
 
 enum class FollowState { kIdle, kFollowing, kTooClose, kTooFar, kLost };
 std::string to_string(FollowState state);

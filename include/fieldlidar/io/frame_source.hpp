@@ -11,6 +11,8 @@
 
 #include <Eigen/Core>
 
+#include "fieldlidar/core/imu_sample.hpp"
+
 #include "fieldlidar/core/point_cloud.hpp"
 #include "fieldlidar/core/pose.hpp"
 #include "fieldlidar/core/sensor_model.hpp"
@@ -28,12 +30,7 @@ struct Frame {
   bool complete = true;
 };
 
-/// IMU sample; gyro and accel in the IMU's own frame.
-struct ImuSample {
-  double stamp_s = 0;
-  Eigen::Vector3d gyro_rad_s = Eigen::Vector3d::Zero();
-  Eigen::Vector3d accel_m_s2 = Eigen::Vector3d::Zero();
-};
+using fieldlidar::ImuSample;  // core/imu_sample.hpp
 
 /// Wheel/visual odometry: pose of the child frame in the odometry frame, twist in the child frame.
 struct OdometrySample {

@@ -4,15 +4,11 @@
 
 #include <Eigen/Core>
 
+#include "fieldlidar/core/imu_sample.hpp"
+
 namespace fieldlidar::odometry {
 
-/// One IMU reading in the base frame: angular rate and specific force (gravity included: a robot
-/// at rest reads about +9.81 m/s^2 on z).
-struct ImuSample {
-  double stamp_s = 0.0;
-  Eigen::Vector3d gyro_rad_s = Eigen::Vector3d::Zero();
-  Eigen::Vector3d accel_m_s2 = Eigen::Vector3d::Zero();
-};
+using fieldlidar::ImuSample;  // core/imu_sample.hpp
 
 /// Body speeds of a wheeled base measured by its encoders (differential drive: forward speed
 /// along base x and yaw rate about base z).

@@ -1,16 +1,15 @@
 #pragma once
 /// \file Planar poses and paths of a ground robot (map frame, metres, radians).
 
+#include <cstddef>
 #include <vector>
+
+#include "fieldlidar/core/pose2.hpp"
 
 namespace fieldlidar::planning {
 
-/// A pose in the map plane: position (m) and heading yaw (rad, counter-clockwise from +x).
-struct Pose2 {
-  double x_m = 0.0;
-  double y_m = 0.0;
-  double yaw_rad = 0.0;
-};
+using fieldlidar::Pose2;
+using fieldlidar::wrap_angle;
 
 /// One sample of a planned path; `reverse` when the robot drives backwards on the way to it.
 struct PathPose {
@@ -19,9 +18,6 @@ struct PathPose {
 };
 
 using Path = std::vector<PathPose>;
-
-/// Angle wrapped to (-pi, pi].
-double wrap_angle(double a_rad);
 
 /// Length (m) of the polyline through the path's positions.
 double path_length_m(const Path& path);

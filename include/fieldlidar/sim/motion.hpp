@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "fieldlidar/core/imu_sample.hpp"
 #include "fieldlidar/core/pose.hpp"
 #include "fieldlidar/sim/scene.hpp"
 
@@ -72,13 +73,7 @@ RobotMotion timed_route(const Scene& scene, std::span<const TimedWaypoint> waypo
 Pose pose_on_ground(const Scene& scene, const Eigen::Vector2d& xy_m, double yaw_rad,
                     double wheel_base_m = 0.6, double track_width_m = 0.5);
 
-/// One IMU reading in the IMU (= base) frame: angular rate and specific force (gravity included:
-/// a robot at rest reads +9.81 m/s^2 on z).
-struct ImuSample {
-  double stamp_s = 0.0;
-  Eigen::Vector3d gyro_rad_s = Eigen::Vector3d::Zero();
-  Eigen::Vector3d accel_m_s2 = Eigen::Vector3d::Zero();
-};
+using fieldlidar::ImuSample;  // core/imu_sample.hpp
 
 struct ImuConfig {
   double rate_hz = 200.0;           ///< 100 .. 400 typical

@@ -1,0 +1,19 @@
+#pragma once
+/// \file Planar poses of a ground robot and angle wrapping (map or world frame, metres, radians).
+
+#include <Eigen/Core>
+
+namespace fieldlidar {
+
+/// A pose in the ground plane: position (m) and heading yaw (rad, counter-clockwise from +x).
+struct Pose2 {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double yaw_rad = 0.0;
+  Eigen::Vector2d xy() const { return {x_m, y_m}; }
+};
+
+/// Angle wrapped to (-pi, pi]; NaN for a non-finite angle (never loops on one).
+double wrap_angle(double a_rad);
+
+}  // namespace fieldlidar
