@@ -45,6 +45,7 @@ Walker make_operator(const LawnConfig& cfg, std::vector<Eigen::Vector2d> path) {
   w.start_offset_m = cfg.operator_start_m;
   const double v = cfg.operator_speed_m_s;
   std::vector<SpeedPhase> phases = {{0.0, v}};
+  if (cfg.operator_waits_at_start) phases = {{0.0, 0.0}, {cfg.wait_at_start_s, v}};
   if (cfg.operator_stops) {
     phases.push_back({cfg.stop_time_s, 0.0});
     phases.push_back({cfg.stop_time_s + cfg.stop_duration_s, v});

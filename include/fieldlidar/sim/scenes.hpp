@@ -28,7 +28,11 @@ struct LawnConfig {
   double fast_duration_s = 6.0;
   double fast_speed_m_s = 2.4;
   bool operator_behind_shed = false;  ///< the operator's path detours behind the shed
-  int extra_walkers = 0;              ///< people strolling at random across the garden
+  /// The operator stands still for `wait_at_start_s` before walking off (the target is chosen
+  /// while they stand).
+  bool operator_waits_at_start = false;
+  double wait_at_start_s = 5.0;
+  int extra_walkers = 0;  ///< people strolling at random across the garden
 };
 Scene make_lawn_scene(const LawnConfig& config = {}, std::uint64_t seed = 0);
 
