@@ -41,6 +41,7 @@ sim::LawnConfig lawn_config(Scenario s) {
     // Within the follow distance, so that the mower has no reason to move before the first step.
     c.operator_waits_at_start = true;
     c.operator_start_m = 2.0;
+    c.posts_near_start = true;  // leg-like clutter nearer than the operator
   }
   return c;
 }

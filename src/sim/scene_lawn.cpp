@@ -129,6 +129,17 @@ Scene make_lawn_scene(const LawnConfig& cfg, std::uint64_t seed) {
         {xr, shed.y() - 2.6}, {xb, shed.y() - 2.6}, {xb, shed.y() + 2.6}, {xr, shed.y() + 2.6}};
     path.insert(path.begin() + 2, detour.begin(), detour.end());
   }
+  if (cfg.posts_near_start) {
+    const Eigen::Vector2d dir = (path[1] - path[0]).normalized();
+    const Eigen::Vector2d right(dir.y(), -dir.x());
+    const Eigen::Vector2d c = path[0] + cfg.posts_ahead_m * dir + cfg.posts_right_m * right;
+    for (double side : {-0.125, 0.125}) {
+      const Eigen::Vector2d p = c + side * dir;
+      const double z = scene.ground_height_at(p);
+      scene.add_mesh(make_cylinder({p.x(), p.y(), z - 0.1}, {p.x(), p.y(), z + 1.0}, 0.06, 0.06, 16,
+                                   structure));
+    }
+  }
   scene.set_operator_path(path);
   scene.set_robot_route(path, true);
   const Walker op = make_operator(cfg, path);
