@@ -113,7 +113,7 @@ void run_follow(const FollowOptions& o) {
   const auto scenario = loops::scenario_from_string(o.scenario);
   if (!scenario)
     throw Error("--scenario '" + o.scenario +
-                "': expected default, crossing, stop, fast or occluded");
+                "': expected default, crossing, stop, fast, occluded or standing-start");
   const auto pose_source = loops::pose_source_from_string(o.pose_source);
   if (!pose_source)
     throw Error("--pose-source '" + o.pose_source + "': expected odometry or truth");
@@ -229,7 +229,8 @@ void add_follow_command(CLI::App& app) {
       "follow", "Simulate the mower following its operator and recording the lawn boundary");
   cmd->add_option("--scene", o->scene, "Simulated scene (lawn)")->capture_default_str();
   cmd->add_option("--sensor", o->sensor, "Sensor preset")->capture_default_str();
-  cmd->add_option("--scenario", o->scenario, "default, crossing, stop, fast or occluded")
+  cmd->add_option("--scenario", o->scenario,
+                  "default, crossing, stop, fast, occluded or standing-start")
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "Scene seed")
       ->capture_default_str()

@@ -48,7 +48,7 @@ struct SimulateOptions {
   double odom_rate_hz = 50.0;
   double truth_resolution_m = 0.5;
   // Lawn scenario options.
-  bool crossing = false, stops = false, too_fast = false, behind_shed = false;
+  bool crossing = false, stops = false, too_fast = false, behind_shed = false, waits = false;
   int extra_walkers = 0;
   double operator_speed = 1.0;
 };
@@ -64,6 +64,7 @@ sim::Scene build_scene(const SimulateOptions& o, sim::SceneKind kind) {
   cfg.operator_stops = o.stops;
   cfg.operator_too_fast = o.too_fast;
   cfg.operator_behind_shed = o.behind_shed;
+  cfg.operator_waits_at_start = o.waits;
   cfg.extra_walkers = o.extra_walkers;
   cfg.operator_speed_m_s = o.operator_speed;
   return sim::make_lawn_scene(cfg, o.seed);
@@ -282,6 +283,8 @@ void add_simulate_command(CLI::App& app) {
                 "lawn: the operator walks faster than the mower can follow");
   cmd->add_flag("--behind-shed", o->behind_shed,
                 "lawn: the operator's path passes behind the shed");
+  cmd->add_flag("--operator-waits", o->waits,
+                "lawn: the operator stands still for 5 s before walking off");
   cmd->add_option("--extra-walkers", o->extra_walkers, "lawn: people strolling at random")
       ->capture_default_str()
       ->check(whole_in(0, 50));

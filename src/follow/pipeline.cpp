@@ -103,14 +103,23 @@ FrameOutput FollowPipeline::follow(Perception perception, const Pose2& mower, do
     if (config_.target_id) {
       tracker_.select_target(*config_.target_id);
     } else {
+      // The operator stands in front of the mower to start: of the confirmed persons ahead, the
+      // one nearest the mower's heading (smallest bearing), not the nearest one (leg-like posts
+      // or a bystander beside the mower may be nearer).
       const Eigen::Vector2d heading(std::cos(mower.yaw_rad), std::sin(mower.yaw_rad));
       const people::Track* best = nullptr;
+      double best_bearing = 0;
       for (const auto& t : tracker_.tracks()) {
         const Eigen::Vector2d d = t.position() - mower.xy();
         if (!t.confirmed || t.missed_frames > 0 || d.norm() > config_.auto_select_range_m ||
             d.dot(heading) <= 0)
           continue;
-        if (!best || d.norm() < (best->position() - mower.xy()).norm()) best = &t;
+        const double bearing =
+            std::atan2(std::abs(heading.x() * d.y() - heading.y() * d.x()), d.dot(heading));
+        if (!best || bearing < best_bearing) {
+          best = &t;
+          best_bearing = bearing;
+        }
       }
       if (best) tracker_.select_target(best->id);
     }

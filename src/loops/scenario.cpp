@@ -18,13 +18,15 @@ std::string to_string(Scenario s) {
       return "fast";
     case Scenario::kOccluded:
       return "occluded";
+    case Scenario::kStandingStart:
+      return "standing-start";
   }
   return "default";
 }
 
 std::optional<Scenario> scenario_from_string(const std::string& n) {
   for (auto s : {Scenario::kDefault, Scenario::kCrossing, Scenario::kStop, Scenario::kFast,
-                 Scenario::kOccluded})
+                 Scenario::kOccluded, Scenario::kStandingStart})
     if (to_string(s) == n) return s;
   return std::nullopt;
 }
@@ -35,6 +37,12 @@ sim::LawnConfig lawn_config(Scenario s) {
   c.operator_stops = s == Scenario::kStop;
   c.operator_too_fast = s == Scenario::kFast;
   c.operator_behind_shed = s == Scenario::kOccluded;
+  if (s == Scenario::kStandingStart) {
+    // Within the follow distance, so that the mower has no reason to move before the first step.
+    c.operator_waits_at_start = true;
+    c.operator_start_m = 2.0;
+    c.posts_near_start = true;  // leg-like clutter nearer than the operator
+  }
   return c;
 }
 

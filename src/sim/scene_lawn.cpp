@@ -45,6 +45,7 @@ Walker make_operator(const LawnConfig& cfg, std::vector<Eigen::Vector2d> path) {
   w.start_offset_m = cfg.operator_start_m;
   const double v = cfg.operator_speed_m_s;
   std::vector<SpeedPhase> phases = {{0.0, v}};
+  if (cfg.operator_waits_at_start) phases = {{0.0, 0.0}, {cfg.wait_at_start_s, v}};
   if (cfg.operator_stops) {
     phases.push_back({cfg.stop_time_s, 0.0});
     phases.push_back({cfg.stop_time_s + cfg.stop_duration_s, v});
@@ -127,6 +128,17 @@ Scene make_lawn_scene(const LawnConfig& cfg, std::uint64_t seed) {
     const std::vector<Eigen::Vector2d> detour = {
         {xr, shed.y() - 2.6}, {xb, shed.y() - 2.6}, {xb, shed.y() + 2.6}, {xr, shed.y() + 2.6}};
     path.insert(path.begin() + 2, detour.begin(), detour.end());
+  }
+  if (cfg.posts_near_start) {
+    const Eigen::Vector2d dir = (path[1] - path[0]).normalized();
+    const Eigen::Vector2d right(dir.y(), -dir.x());
+    const Eigen::Vector2d c = path[0] + cfg.posts_ahead_m * dir + cfg.posts_right_m * right;
+    for (double side : {-0.125, 0.125}) {
+      const Eigen::Vector2d p = c + side * dir;
+      const double z = scene.ground_height_at(p);
+      scene.add_mesh(make_cylinder({p.x(), p.y(), z - 0.1}, {p.x(), p.y(), z + 1.0}, 0.06, 0.06, 16,
+                                   structure));
+    }
   }
   scene.set_operator_path(path);
   scene.set_robot_route(path, true);

@@ -40,8 +40,8 @@ struct FollowConfig {
   DriveConfig drive;
   SafetyConfig safety;
   BoundaryConfig boundary;
-  /// The target: this track id when set (the operator's choice), else the nearest confirmed
-  /// person within `auto_select_range_m` ahead of the mower.
+  /// The target: this track id when set (the operator's choice), else the confirmed person
+  /// within `auto_select_range_m` ahead of the mower nearest its heading (smallest bearing).
   std::optional<std::uint32_t> target_id;
   double auto_select_range_m = 6.0;
 

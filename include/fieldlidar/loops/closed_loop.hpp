@@ -26,9 +26,10 @@
 
 namespace fieldlidar::loops {
 
-enum class Scenario { kDefault, kCrossing, kStop, kFast, kOccluded };
+/// kStandingStart: the operator stands still 2 m in front of the mower for 5 s, then walks off.
+enum class Scenario { kDefault, kCrossing, kStop, kFast, kOccluded, kStandingStart };
 std::string to_string(Scenario s);
-/// "default", "crossing", "stop", "fast", "occluded"; nullopt otherwise.
+/// "default", "crossing", "stop", "fast", "occluded", "standing-start"; nullopt otherwise.
 std::optional<Scenario> scenario_from_string(const std::string& name);
 /// The lawn scene options of a scenario.
 sim::LawnConfig lawn_config(Scenario s);

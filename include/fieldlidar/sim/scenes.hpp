@@ -28,7 +28,18 @@ struct LawnConfig {
   double fast_duration_s = 6.0;
   double fast_speed_m_s = 2.4;
   bool operator_behind_shed = false;  ///< the operator's path detours behind the shed
-  int extra_walkers = 0;              ///< people strolling at random across the garden
+  /// The operator stands still for `wait_at_start_s` before walking off (the target is chosen
+  /// while they stand).
+  bool operator_waits_at_start = false;
+  double wait_at_start_s = 5.0;
+  /// Two leg-thick garden posts 0.25 m apart (a pair a leg detector can take for a person)
+  /// beside the operator's start: `posts_ahead_m` along the path from its start and
+  /// `posts_right_m` to its right (outwards, so they hide the operator from no point of the lap),
+  /// nearer to the mower than the operator.
+  bool posts_near_start = false;
+  double posts_ahead_m = 1.4;
+  double posts_right_m = 0.7;
+  int extra_walkers = 0;  ///< people strolling at random across the garden
 };
 Scene make_lawn_scene(const LawnConfig& config = {}, std::uint64_t seed = 0);
 
