@@ -8,7 +8,6 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <functional>
 #include <limits>
 
 namespace fieldlidar::planning {
@@ -64,8 +63,27 @@ std::vector<std::uint8_t> centre_blocked_cells(const PlanningMap& map, double ra
 }
 
 void ObstacleHeuristic::push(float d, std::uint32_t i) {
-  heap_.push_back((std::uint64_t(std::bit_cast<std::uint32_t>(d)) << 32) | i);
-  std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+  const std::uint32_t key = std::bit_cast<std::uint32_t>(d);  // monotone for d >= 0
+  buckets_[std::bit_width(key ^ last_key_)].push_back((std::uint64_t(key) << 32) | i);
+  ++queued_;
+}
+
+bool ObstacleHeuristic::pop(std::uint32_t* cell) {
+  if (queued_ == 0) return false;
+  if (buckets_[0].empty()) {
+    int b = 1;
+    while (buckets_[b].empty()) ++b;
+    std::uint64_t least = buckets_[b][0];
+    for (std::uint64_t e : buckets_[b]) least = std::min(least, e);
+    last_key_ = std::uint32_t(least >> 32);
+    for (std::uint64_t e : buckets_[b])
+      buckets_[std::bit_width(std::uint32_t(e >> 32) ^ last_key_)].push_back(e);
+    buckets_[b].clear();
+  }
+  *cell = std::uint32_t(buckets_[0].back() & 0xffffffffu);
+  buckets_[0].pop_back();
+  --queued_;
+  return true;
 }
 
 void ObstacleHeuristic::reset(const PlanningMap& map, long goal_cell, double tau_weight,
@@ -100,7 +118,9 @@ void ObstacleHeuristic::reset(const PlanningMap& map, long goal_cell, double tau
     std::fill(dist_.begin(), dist_.end(), std::numeric_limits<float>::infinity());
   }
   closed_ = blocked_;
-  heap_.clear();
+  for (auto& b : buckets_) b.clear();
+  last_key_ = 0;
+  queued_ = 0;
   settled_count_ = 0;
   const long c = coarse_of(goal_cell);
   if (c < 0 || blocked_[std::size_t(c)]) return;
@@ -125,17 +145,15 @@ double ObstacleHeuristic::cost_m(long cell, std::chrono::steady_clock::time_poin
   const long offsets[8] = {1, -1, pw, -pw, pw + 1, pw - 1, -pw + 1, -pw - 1};
   const float lengths[8] = {res, res, res, res, diag, diag, diag, diag};
   int since_clock = 0;
+  std::uint32_t top = 0;
   while (!(closed_[target] && dist_[target] < std::numeric_limits<float>::infinity()) &&
-         !heap_.empty()) {
+         pop(&top)) {
     if (++since_clock == 1024) {
       since_clock = 0;
       if (std::chrono::steady_clock::now() > deadline)
         return std::numeric_limits<double>::quiet_NaN();
     }
-    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
-    const std::uint64_t top = heap_.back();
-    heap_.pop_back();
-    const std::size_t i = std::size_t(top & 0xffffffffu);
+    const std::size_t i = top;
     if (closed_[i]) continue;
     closed_[i] = 1;
     ++settled_count_;

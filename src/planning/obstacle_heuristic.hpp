@@ -42,7 +42,12 @@ class ObstacleHeuristic {
   std::vector<std::uint8_t> blocked_;  ///< static per map
   std::vector<std::uint8_t> closed_;   ///< blocked or settled
   std::vector<float> dist_;
-  std::vector<std::uint64_t> heap_;  ///< (distance bits << 32 | cell), a binary min-heap
+  /// Radix heap of (distance bits << 32 | cell): Dijkstra pops keys in increasing order, so
+  /// bucket b holds the keys whose highest bit differing from the last popped key is b - 1.
+  std::vector<std::uint64_t> buckets_[33];
+  std::uint32_t last_key_ = 0;
+  std::size_t queued_ = 0;
+  bool pop(std::uint32_t* cell);
   std::size_t settled_count_ = 0;
 };
 
