@@ -1,11 +1,14 @@
 // Hybrid A* on a 384 x 384 map of 0.5 m cells (147k cells, synthetic rocks and walls, tau
 // varying): median and p95 time and expansions per plan over random queries; side by side,
-// OMPL's RRT* in the Reeds–Shepp space with the same footprint check and a 1 s budget on the
-// same queries (path length ratio and time ratio in the same run).
+// OMPL's RRT* and BIT* in the Reeds–Shepp space with the same footprint check and a 1 s budget
+// on the same queries (path length ratio and time ratio in the same run; OMPL's random seed is
+// fixed so runs compare).
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <random>
 #include <vector>
@@ -17,8 +20,10 @@
 #include <ompl/base/objectives/PathLengthOptimizationObjective.h>
 #include <ompl/base/spaces/ReedsSheppStateSpace.h>
 #include <ompl/geometric/SimpleSetup.h>
+#include <ompl/geometric/planners/informedtrees/BITstar.h>
 #include <ompl/geometric/planners/rrt/RRTstar.h>
 #include <ompl/util/Console.h>
+#include <ompl/util/RandomNumbers.h>
 
 #include "fieldlidar/planning/hybrid_astar.hpp"
 
@@ -88,6 +93,22 @@ double thread_cpu_ms() {
   return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
 }
 
+// Direction changes of an OMPL Reeds–Shepp path (between and within its segments).
+int cusps(const ompl::geometric::PathGeometric& path) {
+  const auto* space =
+      path.getSpaceInformation()->getStateSpace()->as<ompl::base::ReedsSheppStateSpace>();
+  int n = 0, last = 0;
+  for (std::size_t i = 1; i < path.getStateCount(); ++i) {
+    const auto rs = space->reedsShepp(path.getState(i - 1), path.getState(i));
+    for (double l : rs.length_) {
+      const int sign = l > 1e-9 ? 1 : (l < -1e-9 ? -1 : 0);
+      if (sign != 0 && last != 0 && sign != last) ++n;
+      if (sign != 0) last = sign;
+    }
+  }
+  return n;
+}
+
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return NAN;
   std::sort(v.begin(), v.end());
@@ -108,7 +129,7 @@ void BM_HybridAStar147k(benchmark::State& state) {
   std::vector<double> cost_ratio, shorter_pct, straighter_pct;
   int smoothed = 0;
   const auto qs = queries(planner, 60, 11);
-  std::vector<double> ms, search_ms, exp, cpu_ms;
+  std::vector<double> ms, search_ms, shortcut_ms, smooth_ms, exp, cpu_ms, heuristic_ms;
   int ok = 0, nopath = 0, timed_out = 0, other = 0;
   for (auto _ : state) {
     ms.clear();
@@ -128,8 +149,11 @@ void BM_HybridAStar147k(benchmark::State& state) {
         }
         const auto r1 = reference.plan(q.start, q.goal);
         if (r1.ok()) cost_ratio.push_back(r.cost / r1.cost);
-        ms.push_back(r.search_ms + r.smooth_ms);
+        ms.push_back(r.search_ms + r.shortcut_ms + r.smooth_ms);
         search_ms.push_back(r.search_ms);
+        heuristic_ms.push_back(r.heuristic_ms);
+        shortcut_ms.push_back(r.shortcut_ms);
+        smooth_ms.push_back(r.smooth_ms);
         exp.push_back(r.expansions);
       } else if (r.status == PlanStatus::kNoPath) {
         ++nopath;
@@ -146,6 +170,10 @@ void BM_HybridAStar147k(benchmark::State& state) {
   state.counters["p95_ms"] = percentile(ms, 0.95);
   state.counters["search_median_ms"] = percentile(search_ms, 0.5);
   state.counters["search_p95_ms"] = percentile(search_ms, 0.95);
+  state.counters["heuristic_median_ms"] = percentile(heuristic_ms, 0.5);
+  state.counters["shortcut_median_ms"] = percentile(shortcut_ms, 0.5);
+  state.counters["smooth_median_ms"] = percentile(smooth_ms, 0.5);
+  state.counters["smooth_p95_ms"] = percentile(smooth_ms, 0.95);
   state.counters["expansions_median"] = percentile(exp, 0.5);
   state.counters["expansions_p95"] = percentile(exp, 0.95);
   state.counters["planned"] = ok;
@@ -173,21 +201,36 @@ BENCHMARK(BM_HybridAStar147k)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 
-// OMPL RRT* (Reeds–Shepp space, the planner's own footprint check as the validity checker,
-// 1 s) against Hybrid A* on the same queries: length and time ratios.
+// OMPL RRT* or BIT* (Reeds–Shepp space, the planner's own footprint check as the validity
+// checker, 1 s of CPU) against Hybrid A* on the same 16 queries: length and time ratios. Our
+// planner runs with tau out of its cost, and either its own reversing and turning costs or
+// (length_only) none, which is OMPL's objective exactly.
 void BM_RrtStarVsHybridAStar(benchmark::State& state) {
   ompl::msg::setLogLevel(ompl::msg::LOG_NONE);
+  static const bool seeded = [] {
+    ompl::RNG::setSeed(5);
+    return true;
+  }();
+  (void)seeded;
+  const bool bit_star = state.range(1) != 0;
   const Grid2D map = bench_map(7);
   PlannerConfig c;
-  c.tau_weight = 0.0;  // the same objective as RRT*'s: path length
+  c.tau_weight = 0.0;  // tau does not enter: length, as for OMPL
   c.heuristic_weight = state.range(0) / 10.0;
+  if (state.range(2) != 0) {  // exactly OMPL's objective: reversing and turning cost no more
+    c.reverse_factor = 1.0;
+    c.direction_change_penalty_m = 0.0;
+    c.turn_factor = 1.0;
+  }
   HybridAStar planner(map, {}, c);
-  const auto qs = queries(planner, 8, 23);
-  std::vector<double> len_ratio, time_ratio;
-  int rrt_solved = 0, both = 0;
+  const auto qs = queries(planner, 16, 23);
+  std::vector<double> len_ratio, simplified_ratio, time_ratio;
+  int ompl_solved = 0, both = 0;
   for (auto _ : state) {
     for (const auto& q : qs) {
+      const double c0 = thread_cpu_ms();
       const auto r = planner.plan(q.start, q.goal);
+      const double ours_ms = thread_cpu_ms() - c0;
       auto space = std::make_shared<ompl::base::ReedsSheppStateSpace>(c.min_turn_radius_m);
       ompl::base::RealVectorBounds bounds(2);
       bounds.setLow(0.0);
@@ -206,35 +249,59 @@ void BM_RrtStarVsHybridAStar(benchmark::State& state) {
       b->setXY(q.goal.x_m, q.goal.y_m);
       b->setYaw(q.goal.yaw_rad);
       ss.setStartAndGoalStates(a, b, 0.2);
-      auto rrt = std::make_shared<ompl::geometric::RRTstar>(ss.getSpaceInformation());
-      ss.setPlanner(rrt);
+      if (bit_star)
+        ss.setPlanner(std::make_shared<ompl::geometric::BITstar>(ss.getSpaceInformation()));
+      else
+        ss.setPlanner(std::make_shared<ompl::geometric::RRTstar>(ss.getSpaceInformation()));
       ss.getProblemDefinition()->setOptimizationObjective(
           std::make_shared<ompl::base::PathLengthOptimizationObjective>(ss.getSpaceInformation()));
-      const auto t0 = std::chrono::steady_clock::now();
-      const auto solved = ss.solve(1.0);
-      const double rrt_ms =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      // The budget is 1 s of this thread's CPU time, so a loaded machine does not starve OMPL.
+      const double o0 = thread_cpu_ms();
+      const auto solved = ss.solve(
+          ompl::base::PlannerTerminationCondition([o0] { return thread_cpu_ms() - o0 >= 1000.0; }));
+      const double ompl_ms = thread_cpu_ms() - o0;
       const bool exact = solved == ompl::base::PlannerStatus::EXACT_SOLUTION;
-      rrt_solved += exact;
+      ompl_solved += exact;
       if (exact && r.ok()) {
         ++both;
-        len_ratio.push_back(path_length_m(r.path) / ss.getSolutionPath().length());
-        time_ratio.push_back(rrt_ms / (r.search_ms + r.smooth_ms));
+        const double ours = path_length_m(r.path), theirs = ss.getSolutionPath().length();
+        len_ratio.push_back(ours / theirs);
+        time_ratio.push_back(ompl_ms / ours_ms);
+        // OMPL's own shortcutting on top (another 0.25 s of CPU), for a stricter comparison
+        const double s0 = thread_cpu_ms();
+        ss.simplifySolution(ompl::base::PlannerTerminationCondition(
+            [s0] { return thread_cpu_ms() - s0 >= 250.0; }));
+        const double simplified = ss.getSolutionPath().length();
+        simplified_ratio.push_back(ours / simplified);
+        if (std::getenv("FIELDLIDAR_BENCH_DETAIL"))
+          std::fprintf(stderr,
+                       "query %d: ours %.2f m (raw %.2f, %d shortcuts, %d direction changes, "
+                       "%.1f ms), OMPL %.2f m, simplified %.2f m (%d changes)\n",
+                       int(&q - qs.data()), ours, path_length_m(r.raw_path), r.shortcuts,
+                       direction_changes(r.path), ours_ms, theirs, simplified,
+                       cusps(ss.getSolutionPath()));
       }
     }
   }
   state.counters["queries"] = double(qs.size());
-  state.counters["rrt_star_solved"] = rrt_solved;
+  state.counters["ompl_solved"] = ompl_solved;
   state.counters["both_solved"] = both;
-  state.counters["length_ratio_median"] = percentile(len_ratio, 0.5);  // ours / RRT*
+  state.counters["length_ratio_median"] = percentile(len_ratio, 0.5);  // ours / OMPL's
   state.counters["length_ratio_max"] = percentile(len_ratio, 1.0);
-  state.counters["time_ratio_median"] = percentile(time_ratio, 0.5);  // RRT* / ours
+  state.counters["length_ratio_p75"] = percentile(len_ratio, 0.75);
+  state.counters["longer_than_ompl"] =
+      double(std::count_if(len_ratio.begin(), len_ratio.end(), [](double x) { return x > 1.0; }));
+  state.counters["simplified_length_ratio_median"] = percentile(simplified_ratio, 0.5);
+  state.counters["simplified_length_ratio_max"] = percentile(simplified_ratio, 1.0);
+  state.counters["time_ratio_median"] = percentile(time_ratio, 0.5);  // OMPL's / ours, CPU
   state.counters["time_ratio_min"] = percentile(time_ratio, 0.0);
 }
 BENCHMARK(BM_RrtStarVsHybridAStar)
-    ->ArgName("weight_x10")
-    ->Arg(10)
-    ->Arg(12)
+    ->ArgNames({"weight_x10", "bit_star", "length_only"})
+    ->Args({12, 0, 0})
+    ->Args({12, 1, 0})
+    ->Args({12, 0, 1})
+    ->Args({12, 1, 1})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 

@@ -106,7 +106,7 @@ void draw(const planning::PlanningMap& map, const planning::PlanResult& r,
   canvas.arrow({start.x_m, start.y_m}, start.yaw_rad, 2.0, {0.0, 0.6, 0.0});
   canvas.arrow({goal.x_m, goal.y_m}, goal.yaw_rad, 2.0, {0.8, 0.0, 0.0});
   canvas.title(title);
-  canvas.legend({{"path (smoothed)", {0.1, 0.2, 0.9}},
+  canvas.legend({{"path (shortcut, smoothed)", {0.1, 0.2, 0.9}},
                  {"search path", {0.9, 0.6, 0.1}},
                  {"driven in reverse", {0.9, 0.1, 0.1}},
                  {"impassable", {0, 0, 0}},
@@ -143,6 +143,8 @@ void run(const PlanOptions& o) {
   j["expansions"] = r.expansions;
   j["search_ms"] = r.search_ms;
   j["heuristic_ms"] = r.heuristic_ms;
+  j["shortcut_ms"] = r.shortcut_ms;
+  j["shortcuts"] = r.shortcuts;
   j["smooth_ms"] = r.smooth_ms;
   if (r.ok()) {
     j["cost"] = r.cost;
@@ -162,7 +164,7 @@ void run(const PlanOptions& o) {
   draw(planner.map(), r, start, goal,
        fmt::format("{}: {} ({:.1f} m, {} expansions, {:.1f} ms)", yaml.filename().string(),
                    planning::to_string(r.status), r.ok() ? planning::path_length_m(r.path) : 0.0,
-                   r.expansions, r.search_ms + r.smooth_ms),
+                   r.expansions, r.search_ms + r.shortcut_ms + r.smooth_ms),
        out / "plan.png", o.force);
   io::write_file_atomic(out / "summary.json", j.dump(1) + "\n", o.force);
   if (!r.ok())
@@ -171,9 +173,9 @@ void run(const PlanOptions& o) {
                             (out / "summary.json").string()));
   fmt::print(
       "{}: path {:.1f} m, {} direction changes, {} expansions, {:.1f} ms search + {:.1f} "
-      "ms smoothing -> {}\n",
+      "ms shortcuts + {:.1f} ms smoothing -> {}\n",
       yaml.string(), planning::path_length_m(r.path), planning::direction_changes(r.path),
-      r.expansions, r.search_ms, r.smooth_ms, out.string());
+      r.expansions, r.search_ms, r.shortcut_ms, r.smooth_ms, out.string());
 }
 
 }  // namespace

@@ -15,6 +15,8 @@
 
 #include "fieldlidar/planning/reeds_shepp.hpp"
 #include "obstacle_heuristic.hpp"
+#include "path_cost.hpp"
+#include "shortcut.hpp"
 #include "state_table.hpp"
 
 namespace fieldlidar::planning {
@@ -104,6 +106,11 @@ struct HybridAStar::Search {
     int primitive = -1;  ///< index into primitives, -1 at the start
     std::uint32_t state = 0;
     bool closed = false;
+    /// The Reeds–Shepp term is taken into h only when the node is first popped (it costs more
+    /// than the rest of the heuristic, and most children are never expanded); h is then raised
+    /// to it and the node queued again if it grew.
+    bool rs_pending = false;
+    double h = 0.0;
   };
   using Entry = std::pair<double, int>;
   std::vector<Node> nodes;
@@ -172,36 +179,36 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
   const auto th = Clock::now();
   const auto deadline = t0 + std::chrono::microseconds(long(c.time_budget_ms * 1000.0));
   s.heuristic.reset(map_, goal_cell, c.tau_weight, c.heuristic_downsample);
+  // h without the Reeds–Shepp term (the larger of the straight line and the obstacle-aware cost)
   auto heuristic = [&](const Pose2& p, long cell) {
     const auto t = Clock::now();
     const double obstacle = s.heuristic.cost_m(cell, deadline);
     result.heuristic_ms += ms_since(t);
     if (std::isnan(obstacle)) return obstacle;
-    const double d = std::hypot(goal.x_m - p.x_m, goal.y_m - p.y_m);
-    const double rs = d < c.rs_heuristic_range_m ? reeds_shepp_length_m(p, goal, R) : d;
-    return std::max(rs, obstacle);
+    return std::max(std::hypot(goal.x_m - p.x_m, goal.y_m - p.y_m), obstacle);
+  };
+  auto rs_wanted = [&](const Pose2& p) {
+    return std::hypot(goal.x_m - p.x_m, goal.y_m - p.y_m) < c.rs_heuristic_range_m;
   };
   result.heuristic_ms += ms_since(th);
-  const double h_start = heuristic(start, start_cell);
+  double h_start = heuristic(start, start_cell);
   if (std::isnan(h_start)) return fail(PlanStatus::kTimedOut);
   if (!std::isfinite(h_start)) return fail(PlanStatus::kNoPath);
+  if (rs_wanted(start)) h_start = std::max(h_start, reeds_shepp_length_m(start, goal, R));
 
-  s.nodes.push_back({start, 0.0, -1, -1, state_of(start, start_cell), false});
+  s.nodes.push_back({start, 0.0, -1, -1, state_of(start, start_cell), false, false, h_start});
   s.state_node.set(s.nodes[0].state, 0);
   s.open.push({h_start, 0});
 
   // The cost of driving a sampled curve from node `from` (the same terms as the primitives).
+  const PathCostTerms terms{c.tau_weight, c.reverse_factor, c.turn_factor,
+                            c.direction_change_penalty_m};
   auto curve_cost = [&](int from, const Path& samples) {
     double cost = 0.0;
     bool prev_reverse = s.nodes[from].primitive >= 0 && prims[s.nodes[from].primitive].length_m < 0;
     bool has_prev = s.nodes[from].primitive >= 0;
     for (std::size_t k = 1; k < samples.size(); ++k) {
-      const Pose2& a = samples[k - 1].pose;
-      const Pose2& b = samples[k].pose;
-      const long cell = map_.cell_index(b.x_m, b.y_m);
-      const bool turning = std::abs(wrap_angle(b.yaw_rad - a.yaw_rad)) > 1e-9;
-      cost += std::hypot(b.x_m - a.x_m, b.y_m - a.y_m) * cost_mult(cell) *
-              (samples[k].reverse ? c.reverse_factor : 1.0) * (turning ? c.turn_factor : 1.0);
+      cost += step_cost(map_, terms, samples[k - 1], samples[k]);
       if (has_prev && samples[k].reverse != prev_reverse) cost += c.direction_change_penalty_m;
       prev_reverse = samples[k].reverse;
       has_prev = true;
@@ -229,6 +236,16 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
       break;
     }
     if (s.nodes[idx].closed || *s.state_node.find(s.nodes[idx].state) != idx) continue;  // stale
+    if (s.nodes[idx].rs_pending) {
+      auto& node = s.nodes[idx];
+      node.rs_pending = false;
+      const double rs = reeds_shepp_length_m(node.pose, goal, R);
+      if (rs > node.h) {
+        node.h = rs;
+        s.open.push({node.g + c.heuristic_weight * node.h - 1e-6 * node.g, idx});
+        continue;
+      }
+    }
     s.nodes[idx].closed = true;
     ++result.expansions;
     if (s.nodes[idx].g + 1e-9 >= best_goal_g) continue;  // cannot beat the candidate
@@ -244,12 +261,9 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
       since_shot = 0;
       ++result.shots_tried;
       const RsCurve curve = reeds_shepp(p, goal, R);
-      const int n = std::max(1, int(std::ceil(curve.length_m / check_step)));
-      bool free = true;
-      for (int k = 1; k <= n && free; ++k)
-        free = map_.pose_free(rs_pose_at(p, curve, R, curve.length_m * k / n));
-      if (free) {  // f41 otherwise: back to f2
-        const double g = s.nodes[idx].g + curve_cost(idx, rs_sample(p, curve, R, check_step));
+      const Path samples = rs_sample(p, curve, R, check_step);
+      if (samples_free(samples, map_)) {  // f41 otherwise: back to f2
+        const double g = s.nodes[idx].g + curve_cost(idx, samples);
         if (g < best_goal_g) {
           best_goal_g = g;
           best_shot_node = idx;
@@ -288,7 +302,7 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
       const double h = heuristic(q, cell);
       if (std::isnan(h)) return fail(PlanStatus::kTimedOut);
       if (!std::isfinite(h)) continue;
-      s.nodes.push_back({q, g, idx, pi, st, false});
+      s.nodes.push_back({q, g, idx, pi, st, false, rs_wanted(q), h});
       const int child = int(s.nodes.size()) - 1;
       s.state_node.set(st, child);
       s.open.push(
@@ -320,6 +334,17 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
   if (raw.size() > 1) raw[0].reverse = raw[1].reverse;
   result.search_ms = ms_since(t0);
   result.raw_path = raw;
+  const auto tc = Clock::now();
+  if (c.shortcut) {
+    ShortcutConfig scc;
+    scc.radius_m = R;
+    scc.resolution_m = c.path_resolution_m;
+    scc.cost = terms;
+    ShortcutReport report;
+    raw = shortcut_path(raw, map_, scc, &report);
+    result.shortcuts = report.replaced;
+  }
+  result.shortcut_ms = ms_since(tc);
   const auto ts = Clock::now();
   SmoothingConfig sc = c.smoothing;
   sc.tau_weight = c.tau_weight;

@@ -1,19 +1,25 @@
 #pragma once
-// The obstacle-aware half of the Hybrid A* heuristic: cost-to-goal of a point robot over the
-// grid (8-connected Dijkstra from the goal cell over unblocked cells, each metre costing
-// 1 + tau_weight * (1 - tau)), computed lazily: a query settles cells only until its own is.
+// The obstacle-aware half of the Hybrid A* heuristic: cost-to-goal of the robot's centre over the
+// grid (8-connected Dijkstra from the goal cell, each metre costing 1 + tau_weight * (1 - tau)),
+// computed lazily: a query settles cells only until its own is. A cell counts as blocked when
+// no point of it can hold the robot's centre: every point lies closer than the footprint's
+// inscribed radius (half its width plus the margin) to a blocked cell, so a gap too narrow for
+// the footprint is closed to the heuristic too and a goal behind it fails at once; no pose the
+// search can take lies in such a cell, so the heuristic stays a lower bound.
 // It runs on cells `downsample` times larger (as nav2's Smac planner does): a coarse cell is
 // blocked only when all its cells are and costs the least of theirs, so it never overestimates.
 
 #include <chrono>
 #include <cstdint>
-#include <queue>
-#include <utility>
 #include <vector>
 
 #include "fieldlidar/planning/planning_map.hpp"
 
 namespace fieldlidar::planning {
+
+/// Per cell of `map`: 1 when every point of the cell is closer than `radius_m` to a blocked
+/// cell (or is blocked itself), so the footprint's inscribed disc cannot be centred in it.
+std::vector<std::uint8_t> centre_blocked_cells(const PlanningMap& map, double radius_m);
 
 class ObstacleHeuristic {
  public:
@@ -25,17 +31,23 @@ class ObstacleHeuristic {
   std::size_t settled() const { return settled_count_; }
 
  private:
-  using Entry = std::pair<float, std::uint32_t>;
-  long coarse_of(long cell) const;
+  long coarse_of(long cell) const;  ///< index in the padded coarse grid
+  void push(float d, std::uint32_t i);
   const PlanningMap* map_ = nullptr;
   double tau_weight_ = 0.0;
-  int factor_ = 1, cw_ = 0, ch_ = 0;
+  int factor_ = 1, cw_ = 0, ch_ = 0, pw_ = 0;  ///< coarse size; pw_: padded row length
   double coarse_res_m_ = 0.0;
-  std::vector<float> mult_;            ///< cost per metre of each coarse cell
-  std::vector<std::uint8_t> blocked_;  ///< coarse cells
+  // Padded coarse grid (a blocked border of one cell: no bounds checks in the inner loop).
+  std::vector<float> half_mult_;       ///< half the cost per metre of each cell
+  std::vector<std::uint8_t> blocked_;  ///< static per map
+  std::vector<std::uint8_t> closed_;   ///< blocked or settled
   std::vector<float> dist_;
-  std::vector<std::uint8_t> settled_;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open_;
+  /// Radix heap of (distance bits << 32 | cell): Dijkstra pops keys in increasing order, so
+  /// bucket b holds the keys whose highest bit differing from the last popped key is b - 1.
+  std::vector<std::uint64_t> buckets_[33];
+  std::uint32_t last_key_ = 0;
+  std::size_t queued_ = 0;
+  bool pop(std::uint32_t* cell);
   std::size_t settled_count_ = 0;
 };
 

@@ -100,10 +100,29 @@ Path rs_sample(const Pose2& from, const RsCurve& curve, double radius_m, double 
     if (seg.kind == RsSegment::Kind::kNone || std::abs(seg.length_m) < 1e-9) continue;
     const int n = std::max(1, int(std::ceil(std::abs(seg.length_m) / step_m)));
     const double v = seg.length_m / n;
-    for (int k = 0; k < n; ++k) {
-      p = advance(p, seg.kind, v, radius_m);
-      path.push_back({p, seg.length_m < 0});
+    if (seg.kind == RsSegment::Kind::kStraight) {
+      const double dx = v * std::cos(p.yaw_rad), dy = v * std::sin(p.yaw_rad);
+      for (int k = 1; k <= n; ++k)
+        path.push_back({{p.x_m + k * dx, p.y_m + k * dy, p.yaw_rad}, seg.length_m < 0});
+    } else {
+      // Each step turns the heading by the same angle: its sine and cosine are rotated along
+      // instead of recomputed (the segment's end is computed directly, so no error builds up).
+      const double turn = (seg.kind == RsSegment::Kind::kLeft ? 1.0 : -1.0) * v / radius_m;
+      const double side = seg.kind == RsSegment::Kind::kLeft ? radius_m : -radius_m;
+      const double ct = std::cos(turn), st = std::sin(turn);
+      double c = std::cos(p.yaw_rad), s = std::sin(p.yaw_rad);
+      // centre of the turn: side * (-sin, cos) from the start
+      const double ox = p.x_m - side * s, oy = p.y_m + side * c;
+      for (int k = 1; k < n; ++k) {
+        const double c2 = c * ct - s * st;
+        s = s * ct + c * st;
+        c = c2;
+        path.push_back(
+            {{ox + side * s, oy - side * c, wrap_angle(p.yaw_rad + k * turn)}, seg.length_m < 0});
+      }
+      path.push_back({advance(p, seg.kind, seg.length_m, radius_m), seg.length_m < 0});
     }
+    p = path.back().pose;
   }
   if (path.size() > 1) path[0].reverse = path[1].reverse;
   return path;

@@ -32,40 +32,79 @@ class Objective {
   Objective(const PlanningMap& map, double kappa_max, const SmoothingConfig& c)
       : map_(map), kappa_max_(kappa_max * c.curvature_target_share), c_(c) {}
 
+  // The obstacle term at a point, and its gradient when `grad` is given (the distance field is
+  // bilinear between cell centres, as PlanningMap::obstacle_distance_at).
+  double obstacle(const Eigen::Vector2d& p, Eigen::Vector2d* grad) const {
+    const GridGeometry& g = map_.geometry();
+    const double fx = (p.x() - g.origin_m.x()) / g.resolution_m - 0.5;
+    const double fy = (p.y() - g.origin_m.y()) / g.resolution_m - 0.5;
+    const int x0 = std::clamp(int(std::floor(fx)), 0, g.width - 1);
+    const int y0 = std::clamp(int(std::floor(fy)), 0, g.height - 1);
+    const int x1 = std::min(x0 + 1, g.width - 1), y1 = std::min(y0 + 1, g.height - 1);
+    const double tx = std::clamp(fx - x0, 0.0, 1.0), ty = std::clamp(fy - y0, 0.0, 1.0);
+    auto at = [&](int x, int y) {
+      return double(map_.obstacle_distance_m(std::size_t(y) * g.width + x));
+    };
+    const double d00 = at(x0, y0), d10 = at(x1, y0), d01 = at(x0, y1), d11 = at(x1, y1);
+    const double d = (1 - ty) * ((1 - tx) * d00 + tx * d10) + ty * ((1 - tx) * d01 + tx * d11);
+    const double gap = c_.obstacle_distance_m - d;
+    if (gap <= 0.0) {
+      if (grad) grad->setZero();
+      return 0.0;
+    }
+    if (grad) {
+      // d/dx of the bilinear form (0 where the point is clamped at the map's edge)
+      const double ddx = ((1 - ty) * (d10 - d00) + ty * (d11 - d01)) / g.resolution_m;
+      const double ddy = ((1 - tx) * (d01 - d00) + tx * (d11 - d10)) / g.resolution_m;
+      *grad = -2.0 * c_.weight_obstacle * gap * Eigen::Vector2d(ddx, ddy);
+    }
+    return c_.weight_obstacle * gap * gap;
+  }
+  double curvature(const Points& x, std::size_t i) const {
+    const double k = menger(x[i - 1], x[i], x[i + 1]);
+    return k > kappa_max_ ? c_.weight_curvature * (k - kappa_max_) * (k - kappa_max_) : 0.0;
+  }
   // Terms centred on sample i (1 <= i <= n-2).
   double term(const Points& x, std::size_t i) const {
-    double f = 0.0;
-    const double d = map_.obstacle_distance_at(x[i].x(), x[i].y());
-    if (d < c_.obstacle_distance_m)
-      f += c_.weight_obstacle * (c_.obstacle_distance_m - d) * (c_.obstacle_distance_m - d);
-    f += c_.weight_smoothness * (x[i + 1] - 2.0 * x[i] + x[i - 1]).squaredNorm();
-    const double k = menger(x[i - 1], x[i], x[i + 1]);
-    if (k > kappa_max_) f += c_.weight_curvature * (k - kappa_max_) * (k - kappa_max_);
-    return f;
+    return obstacle(x[i], nullptr) +
+           c_.weight_smoothness * (x[i + 1] - 2.0 * x[i] + x[i - 1]).squaredNorm() +
+           curvature(x, i);
   }
   double value(const Points& x) const {
     double f = 0.0;
     for (std::size_t i = 1; i + 1 < x.size(); ++i) f += term(x, i);
     return f;
   }
-  // Gradient by central differences of the terms that hold sample i (i-1, i, i+1).
+  // Gradient: the obstacle and smoothness terms in closed form, the curvature terms by central
+  // differences where they are active.
   void gradient(Points& x, Points& g) const {
-    const double h = 1e-4;
-    g.assign(x.size(), Eigen::Vector2d::Zero());
-    // two vertices fixed at each end: the end poses and the headings into them stay
-    for (std::size_t i = 2; i + 2 < x.size(); ++i) {
-      const std::size_t lo = std::max<std::size_t>(1, i - 1), hi = std::min(x.size() - 2, i + 1);
-      for (int a = 0; a < 2; ++a) {
-        const double keep = x[i][a];
-        double fp = 0.0, fm = 0.0;
-        x[i][a] = keep + h;
-        for (std::size_t j = lo; j <= hi; ++j) fp += term(x, j);
-        x[i][a] = keep - h;
-        for (std::size_t j = lo; j <= hi; ++j) fm += term(x, j);
-        x[i][a] = keep;
-        g[i][a] = (fp - fm) / (2.0 * h);
+    const std::size_t n = x.size();
+    g.assign(n, Eigen::Vector2d::Zero());
+    Eigen::Vector2d go;
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+      obstacle(x[i], &go);
+      g[i] += go;
+      const Eigen::Vector2d lap = 2.0 * c_.weight_smoothness * (x[i + 1] - 2.0 * x[i] + x[i - 1]);
+      g[i - 1] += lap;
+      g[i] -= 2.0 * lap;
+      g[i + 1] += lap;
+      if (curvature(x, i) > 0.0) {
+        const double h = 1e-5;
+        for (std::size_t j = i - 1; j <= i + 1; ++j)
+          for (int a = 0; a < 2; ++a) {
+            const double keep = x[j][a];
+            x[j][a] = keep + h;
+            const double fp = curvature(x, i);
+            x[j][a] = keep - h;
+            const double fm = curvature(x, i);
+            x[j][a] = keep;
+            g[j][a] += (fp - fm) / (2.0 * h);
+          }
       }
     }
+    // two vertices fixed at each end: the end poses and the headings into them stay
+    for (std::size_t i = 0; i < n; ++i)
+      if (i < 2 || i + 2 >= n) g[i].setZero();
   }
 
  private:

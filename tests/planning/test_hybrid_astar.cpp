@@ -73,6 +73,33 @@ TEST(HybridAStar, EnclosedGoalIsReportedUnreachableAtOnce) {
   EXPECT_LT(r.expansions, 10);  // measured 0: the grid Dijkstra finds the goal enclosed
 }
 
+// A wall across the map with one gap: 0.5 m (a cell) lets a point through but not the 0.58 m
+// wide robot; 1.5 m lets both through.
+Grid2D walled_map(double gap_m) {
+  Grid2D map = open_map(30, 20);
+  block(map, 14, 0, 15, 9.8 - 0.5 * gap_m);  // cells centred at y 9.75 +- gap / 2 stay open
+  block(map, 14, 9.7 + 0.5 * gap_m, 15, 20);
+  return map;
+}
+
+TEST(HybridAStar, GapTooNarrowForTheFootprintFailsFast) {
+  HybridAStar narrow(walled_map(0.5), {});
+  const auto r = narrow.plan({5, 9.75, 0}, {25, 9.75, 0});
+  EXPECT_EQ(r.status, PlanStatus::kNoPath) << to_string(r.status);
+  EXPECT_TRUE(r.path.empty());
+  // measured 0: the heuristic's grid closes the gap (no point of it is far enough from the
+  // wall for the footprint's inscribed disc); without that the search ran 34,648 expansions
+  // (all it could) before it gave up
+  EXPECT_LT(r.expansions, 10);
+  HybridAStar wide(walled_map(1.5), {});
+  const auto w = wide.plan({5, 9.75, 0}, {25, 9.75, 0});
+  ASSERT_TRUE(w.ok()) << to_string(w.status);
+  std::printf("gap: 0.5 m %s after %d expansions; 1.5 m planned, %.2f m, %d expansions\n",
+              to_string(r.status), r.expansions, path_length_m(w.path), w.expansions);
+  EXPECT_LT(path_length_m(w.path), 20.5);
+  for (const auto& p : w.path) EXPECT_FALSE(wide.map().footprint_hits_blocked(p.pose, 0.0));
+}
+
 TEST(HybridAStar, LowTauIsAvoidedWhenADetourIsCheap) {
   Grid2D map = open_map(30, 20);
   auto tau = map.layer(terrain::layer::kTraversability);
@@ -100,6 +127,7 @@ TEST(HybridAStar, SmoothingShortensAndStraightensWithinBounds) {
   block(map, 12, 0, 14, 25);
   block(map, 24, 15, 26, 40);
   PlannerConfig c;
+  c.shortcut = false;  // the smoothing of the lattice path itself
   HybridAStar planner(map, {}, c);
   const auto r = planner.plan({4, 4, 0}, {36, 36, 0});
   ASSERT_TRUE(r.ok()) << to_string(r.status);
@@ -116,6 +144,27 @@ TEST(HybridAStar, SmoothingShortensAndStraightensWithinBounds) {
       s.iterations, r.smooth_ms, r.search_ms, r.expansions);
   RecordProperty("length_before_m", std::to_string(s.length_before_m));
   RecordProperty("length_after_m", std::to_string(s.length_after_m));
+}
+
+TEST(HybridAStar, ShortcutsTakeTheLatticeZigzagOut) {
+  Grid2D map = open_map(40, 40);
+  block(map, 12, 0, 14, 25);
+  block(map, 24, 15, 26, 40);
+  PlannerConfig c;
+  c.smooth = false;
+  HybridAStar planner(map, {}, c);
+  const auto r = planner.plan({4, 4, 0}, {36, 36, 0});
+  ASSERT_TRUE(r.ok()) << to_string(r.status);
+  const double raw = path_length_m(r.raw_path), cut = path_length_m(r.path);
+  std::printf("shortcuts: %d, length %.2f -> %.2f m, %.2f ms\n", r.shortcuts, raw, cut,
+              r.shortcut_ms);
+  EXPECT_GE(r.shortcuts, 1);
+  EXPECT_LT(cut, raw - 2.0);  // measured 71.06 -> 67.48 m
+  EXPECT_LE(max_curvature(r.path), 1.0 / c.min_turn_radius_m * (1 + 1e-6));
+  EXPECT_NEAR(r.path.front().pose.x_m, 4.0, 1e-9);
+  EXPECT_NEAR(r.path.back().pose.x_m, r.raw_path.back().pose.x_m, 1e-9);
+  EXPECT_NEAR(r.path.back().pose.yaw_rad, r.raw_path.back().pose.yaw_rad, 1e-9);
+  for (const auto& p : r.path) EXPECT_FALSE(planner.map().footprint_hits_blocked(p.pose, 0.0));
 }
 
 }  // namespace
