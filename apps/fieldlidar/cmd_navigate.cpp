@@ -35,6 +35,8 @@ struct NavigateOptions {
   std::uint64_t seed = 0;
   double max_time_s = 0, replan_period_s = loops::NavigateConfig{}.replan_period_s;
   double speed_m_s = loops::NavigateConfig{}.follower.max_speed_m_s;
+  int seen_no_ground_points = loops::NavigateConfig{}.seen_no_ground_points;
+  double margin_m = loops::NavigateConfig{}.planner.map.footprint_margin_m;
   bool force = false;
 };
 
@@ -102,6 +104,8 @@ void run(const NavigateOptions& o) {
   cfg.max_time_s = o.max_time_s;
   cfg.replan_period_s = o.replan_period_s;
   cfg.follower.max_speed_m_s = o.speed_m_s;
+  cfg.seen_no_ground_points = o.seen_no_ground_points;
+  cfg.planner.map.footprint_margin_m = o.margin_m;
   const sim::Scene scene = sim::make_terrain_scene({}, o.seed);
   std::vector<Pair> pairs;
   if (!o.pairs.empty()) {
@@ -202,6 +206,15 @@ void add_navigate_command(CLI::App& app) {
   cmd->add_option("--speed", o->speed_m_s, "Cruise speed (m/s)")
       ->capture_default_str()
       ->check(real_above(0, 5));
+  cmd->add_option("--seen-no-ground", o->seen_no_ground_points,
+                  "A cell with this many returns, its neighbours seen, but no ground is "
+                  "impassable (a slope too steep for the ground segmentation); 0: unknown")
+      ->capture_default_str()
+      ->check(whole_in(0, 1000000));
+  cmd->add_option("--margin", o->margin_m,
+                  "Clearance (m) the planner keeps around the robot's rectangle")
+      ->capture_default_str()
+      ->check(real_in(0, 2));
   cmd->add_option("--replan-period", o->replan_period_s, "Re-plan at least this often (s)")
       ->capture_default_str()
       ->check(real_above(0, 3600));

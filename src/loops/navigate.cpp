@@ -52,6 +52,8 @@ class Loop {
     f.min_turn_radius_m = robot_.min_turn_radius_m;
     follower_ = planning::PathFollower(f);
     area_ = GridGeometry::covering(scene.min_m(), scene.max_m(), config.fusion.layers.cell_m);
+    const double lowest = sensor.beam_altitudes_rad.empty() ? 0.0 : sensor.beam_altitudes_rad[0];
+    if (lowest < -0.01) blind_radius_m_ = scene.sensor_height_m() / std::tan(-lowest);
   }
 
   NavigateResult run(const Pose2& start, const Pose2& goal);
@@ -89,6 +91,7 @@ class Loop {
   NavigateResult r_;
   Pose2 pose_, goal_;
   double t_ = 0, v_ = 0, last_plan_t_ = -1e9, scan_ms_ = 0, plan_ms_ = 0;
+  double blind_radius_m_ = 0;  ///< no ground return nearer the sensor than this (m)
   bool map_updated_ = false, done_ = false;
   std::string pending_;  ///< a re-plan asked for by the last control step
   int unreachable_votes_ = 0, planner_failures_ = 0, off_goal_plans_ = 0;
@@ -113,7 +116,8 @@ void Loop::scan() {
                              Eigen::Translation3d(0, 0, scene_.sensor_height_m());
   const sim::SimFrame frame = lidar_.scan(t_, T_world_lidar);
   map_.add_scan(frame.cloud, sensor_, T_world_lidar);
-  grid_ = area_grid(map_, area_, cfg_.seen_no_ground_points);
+  grid_ = area_grid(map_, area_, cfg_.seen_no_ground_points, {pose_.x_m, pose_.y_m},
+                    blind_radius_m_);
   blocked_ = known_blocked(grid_);
   check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);
   map_updated_ = true;
@@ -143,6 +147,15 @@ void Loop::plan(const std::string& trigger) {
   planning::PlanResult p;
   {
     planning::HybridAStar planner(grid, robot_, planner_cfg_);
+    p = planner.plan(pose_, goal_);
+  }
+  if (p.status == PlanStatus::kTimedOut || p.status == PlanStatus::kExpansionLimit) {
+    // An exhaustive search (a goal walled in) outgrows the budget of one control period: once
+    // more with cfg_.retry_budget_factor times the time and expansions.
+    planning::PlannerConfig big = planner_cfg_;
+    big.time_budget_ms *= cfg_.retry_budget_factor;
+    big.max_expansions = int(big.max_expansions * cfg_.retry_budget_factor);
+    planning::HybridAStar planner(grid, robot_, big);
     p = planner.plan(pose_, goal_);
   }
   if (p.status == PlanStatus::kStartInCollision) {

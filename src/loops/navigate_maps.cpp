@@ -25,7 +25,8 @@ Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityCon
 }
 
 Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
-                 int seen_no_ground_points) {
+                 int seen_no_ground_points, const Eigen::Vector2d& sensor_xy_m,
+                 double blind_radius_m, int blind_points) {
   Grid2D out(area);
   auto tau = out.add_layer(L::kTraversability, NAN);
   auto imp = out.add_layer(L::kImpassable, NAN);
@@ -35,7 +36,9 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
   const auto gtau = global.layer(L::kTraversability);
   const auto gimp = global.layer(L::kImpassable);
   const auto gpts = global.layer(L::kPoints);
+  const auto gelev = global.layer(L::kElevation);
   const GridGeometry& g = global.geometry();
+  std::vector<std::uint8_t> ground(area.cell_count(), 0);
   for (int iy = 0; iy < area.height; ++iy)
     for (int ix = 0; ix < area.width; ++ix) {
       const auto c = g.cell_of(area.cell_center(ix, iy));
@@ -44,15 +47,19 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
       tau[i] = gtau[j];
       imp[i] = gimp[j];
       pts[i] = gpts[j];
+      ground[i] = std::isfinite(gelev[j]);
+      if (!ground[i] && !std::isfinite(tau[i]) && pts[i] >= float(blind_points) &&
+          (area.cell_center(ix, iy) - sensor_xy_m).norm() < blind_radius_m)
+        imp[i] = 1.f;
     }
   if (seen_no_ground_points <= 0) return out;
-  // Seen well, its whole 3 x 3 window seen (so the map's full-window rule is not why it is
-  // unknown), and no ground: impassable.
+  // Seen well, its whole 3 x 3 window seen, and no ground plane (a cell left unknown by the map's
+  // full-window rule has one: its elevation): impassable.
   std::vector<std::size_t> no_ground;
   for (int iy = 1; iy + 1 < area.height; ++iy)
     for (int ix = 1; ix + 1 < area.width; ++ix) {
       const std::size_t i = area.linear_index(ix, iy);
-      if (std::isfinite(tau[i]) || pts[i] < float(seen_no_ground_points)) continue;
+      if (std::isfinite(tau[i]) || ground[i] || pts[i] < float(seen_no_ground_points)) continue;
       bool window_seen = true;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx)

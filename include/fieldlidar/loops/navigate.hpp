@@ -54,6 +54,8 @@ struct NavigateConfig {
   double scan_period_s = 0.5;     ///< one sweep is mapped this often (the sensor spins at 10 Hz)
   double replan_period_s = 5.0;   ///< re-plan at least this often (s)
   double replan_cost_rise = 0.1;  ///< re-plan when the rest of the path costs this share more
+  /// A plan that runs out of time or expansions is tried once more with this many times both.
+  double retry_budget_factor = 5.0;
   double goal_tolerance_m = 0.3;  ///< arrived: this close to the goal ...
   double goal_yaw_tolerance_rad = 0.3;  ///< ... and this well aligned
   double max_time_s = 0.0;              ///< 0: 40 s + 4 x the straight distance / cruise speed

@@ -18,12 +18,18 @@ Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityCon
 
 /// The fused map's traversability, impassable and points layers on `area` (cells the fused map has
 /// not seen stay unknown: NaN tau, 0 points). A cell with at least `seen_no_ground_points` returns
-/// behind it, its 8 neighbours seen too, but no traversability is marked impassable: it was seen
-/// well and holds no ground
+/// behind it, its 8 neighbours seen too, but no traversability and no ground plane (elevation) is
+/// marked impassable: it was seen well and holds no ground
 /// (ground too steep for the ground segmentation, such as a hill's flank, or a wall); 0 leaves such
 /// cells unknown.
+///
+/// Around the sensor, within `blind_radius_m` (where its lowest beam cannot reach the ground:
+/// mounting height / tan(-lowest elevation)), no return can be ground: a cell there with
+/// `blind_points` returns and no ground plane is impassable too (the top of a rock beside the
+/// robot at the start, which the map cannot call an obstacle without the ground under it).
 Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
-                 int seen_no_ground_points = 0);
+                 int seen_no_ground_points = 0, const Eigen::Vector2d& sensor_xy_m = {},
+                 double blind_radius_m = 0.0, int blind_points = 3);
 
 /// Known-impassable cells of a planner grid (impassable flag, or known tau <= 0).
 std::vector<std::uint8_t> known_blocked(const Grid2D& grid);
