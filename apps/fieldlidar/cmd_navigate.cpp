@@ -37,6 +37,7 @@ struct NavigateOptions {
   double speed_m_s = loops::NavigateConfig{}.follower.max_speed_m_s;
   int seen_no_ground_points = loops::NavigateConfig{}.seen_no_ground_points;
   double margin_m = loops::NavigateConfig{}.planner.map.footprint_margin_m;
+  double shadow_radius_m = loops::NavigateConfig{}.shadow_radius_m;
   bool force = false;
 };
 
@@ -106,6 +107,7 @@ void run(const NavigateOptions& o) {
   cfg.follower.max_speed_m_s = o.speed_m_s;
   cfg.seen_no_ground_points = o.seen_no_ground_points;
   cfg.planner.map.footprint_margin_m = o.margin_m;
+  cfg.shadow_radius_m = o.shadow_radius_m;
   const sim::Scene scene = sim::make_terrain_scene({}, o.seed);
   std::vector<Pair> pairs;
   if (!o.pairs.empty()) {
@@ -215,6 +217,12 @@ void add_navigate_command(CLI::App& app) {
                   "Clearance (m) the planner keeps around the robot's rectangle")
       ->capture_default_str()
       ->check(real_in(0, 2));
+  cmd->add_option("--shadow-radius", o->shadow_radius_m,
+                  "Cells never seen within this distance (m) of the robot are shadows (hidden "
+                  "ground: behind a rock, inside a ditch), planned as costly rather than unknown; "
+                  "0: off")
+      ->capture_default_str()
+      ->check(real_in(0, 100));
   cmd->add_option("--replan-period", o->replan_period_s, "Re-plan at least this often (s)")
       ->capture_default_str()
       ->check(real_above(0, 3600));

@@ -144,6 +144,9 @@ std::string Loop::replan_trigger() {
 void Loop::plan(const std::string& trigger) {
   const auto t0 = Clock::now();
   Grid2D grid = grid_;
+  if (cfg_.shadow_radius_m > blind_radius_m_)
+    cost_shadows(grid, {pose_.x_m, pose_.y_m}, blind_radius_m_ + grid.geometry().resolution_m,
+                 cfg_.shadow_radius_m, float(cfg_.shadow_tau));
   planning::PlanResult p;
   {
     planning::HybridAStar planner(grid, robot_, planner_cfg_);

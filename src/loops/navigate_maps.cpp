@@ -70,6 +70,21 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
   return out;
 }
 
+void cost_shadows(Grid2D& grid, const Eigen::Vector2d& sensor_xy_m, double inner_m, double outer_m,
+                  float shadow_tau) {
+  const GridGeometry& g = grid.geometry();
+  auto tau = grid.layer(L::kTraversability);
+  auto pts = grid.layer(L::kPoints);
+  for (int iy = 0; iy < g.height; ++iy)
+    for (int ix = 0; ix < g.width; ++ix) {
+      const std::size_t i = g.linear_index(ix, iy);
+      const double d = (g.cell_center(ix, iy) - sensor_xy_m).norm();
+      if (d <= inner_m || d >= outer_m || pts[i] > 0.f) continue;
+      tau[i] = shadow_tau;
+      pts[i] = 1.f;
+    }
+}
+
 std::vector<std::uint8_t> known_blocked(const Grid2D& grid) {
   const auto tau = grid.layer(L::kTraversability);
   const bool has_imp = grid.has_layer(L::kImpassable);

@@ -31,6 +31,13 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
                  int seen_no_ground_points = 0, const Eigen::Vector2d& sensor_xy_m = {},
                  double blind_radius_m = 0.0, int blind_points = 3);
 
+/// Cells never seen (no return) between inner_m and outer_m from the sensor are shadows: ground
+/// the sensor would have seen were it not hidden (behind a rock, inside a ditch or pit). They get
+/// tau `shadow_tau` (known, costlier) instead of the optimism of unknown cells, so plans near the
+/// robot prefer ground it has seen; cells farther away stay unknown.
+void cost_shadows(Grid2D& grid, const Eigen::Vector2d& sensor_xy_m, double inner_m, double outer_m,
+                  float shadow_tau);
+
 /// Known-impassable cells of a planner grid (impassable flag, or known tau <= 0).
 std::vector<std::uint8_t> known_blocked(const Grid2D& grid);
 
