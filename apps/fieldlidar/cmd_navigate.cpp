@@ -84,8 +84,10 @@ Pair default_pair(const sim::Scene& scene) {
     return std::atan2(b.y() - a.y(), b.x() - a.x());
   };
   const std::size_t n = r.size();
-  return {"route", {r[0].x(), r[0].y(), yaw(r[0], r[1])},
-          {r[n - 1].x(), r[n - 1].y(), yaw(r[n - 2], r[n - 1])}, ""};
+  return {"route",
+          {r[0].x(), r[0].y(), yaw(r[0], r[1])},
+          {r[n - 1].x(), r[n - 1].y(), yaw(r[n - 2], r[n - 1])},
+          ""};
 }
 
 std::string row_text(const Pair& p, const loops::NavigateResult& r) {
@@ -130,9 +132,9 @@ void run(const NavigateOptions& o) {
     if (fs::exists(f) && !o.force)
       throw Error("navigate: " + f.string() + " exists (use --force to replace it)");
   const SensorModel sensor = SensorModel::vlp16();
-  const std::string header = fmt::format(
-      "{:<14} {:<11} {:>8} {:>8} {:>6} {:>6} {:>6} {:>7} {:>7}  {}", "pair", "outcome", "driven_m",
-      "truth_m", "ratio", "replan", "imp_fr", "sim_s", "wall_s", "reason");
+  const std::string header =
+      fmt::format("{:<14} {:<11} {:>8} {:>8} {:>6} {:>6} {:>6} {:>7} {:>7}  {}", "pair", "outcome",
+                  "driven_m", "truth_m", "ratio", "replan", "imp_fr", "sim_s", "wall_s", "reason");
   std::string table_csv =
       "pair,expect,outcome,driven_m,truth_plan_m,ratio,replans,frames_on_impassable,sim_s,wall_s,"
       "reason\n";
@@ -146,14 +148,16 @@ void run(const NavigateOptions& o) {
                p.name, p.start.x_m, p.start.y_m, p.start.yaw_rad, p.goal.x_m, p.goal.y_m,
                p.goal.yaw_rad);
     const loops::NavigateResult r = loops::run_navigate(scene, sensor, p.start, p.goal, cfg);
-    nlohmann::json extra = {{"scene", o.scene}, {"seed", o.seed}, {"pair", p.name},
+    nlohmann::json extra = {{"scene", o.scene},
+                            {"seed", o.seed},
+                            {"pair", p.name},
                             {"sensor", sensor.name},
-                            {"robot", {{"length_m", cfg.fusion.layers.robot.length_m},
-                                       {"width_m", cfg.fusion.layers.robot.width_m},
-                                       {"max_slope_deg", cfg.fusion.layers.robot.max_slope_deg},
-                                       {"max_step_m", cfg.fusion.layers.robot.max_step_m},
-                                       {"min_turn_radius_m",
-                                        cfg.fusion.layers.robot.min_turn_radius_m}}}};
+                            {"robot",
+                             {{"length_m", cfg.fusion.layers.robot.length_m},
+                              {"width_m", cfg.fusion.layers.robot.width_m},
+                              {"max_slope_deg", cfg.fusion.layers.robot.max_slope_deg},
+                              {"max_step_m", cfg.fusion.layers.robot.max_step_m},
+                              {"min_turn_radius_m", cfg.fusion.layers.robot.min_turn_radius_m}}}};
     if (!p.expect.empty()) extra["expected"] = p.expect;
     write_navigate_run(dir, r, extra,
                        fmt::format("fieldlidar navigate: terrain seed {}, {}: {} ({:.1f} m driven, "
@@ -175,8 +179,8 @@ void run(const NavigateOptions& o) {
   for (const auto& l : lines) fmt::print("{}\n", l);
   fmt::print("wrote {}\n", out.string());
   if (mismatches)
-    throw Error(fmt::format("navigate: {} of {} pairs did not end as expected", mismatches,
-                            pairs.size()));
+    throw Error(
+        fmt::format("navigate: {} of {} pairs did not end as expected", mismatches, pairs.size()));
 }
 
 }  // namespace

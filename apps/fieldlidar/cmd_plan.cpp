@@ -177,9 +177,10 @@ void add_plan_command(CLI::App& app) {
   cmd->add_option("--goal", o->goal, "Goal pose x,y,yaw (m, m, rad; map frame)")->required();
   cmd->add_option("--out", o->out, "Output folder (path.csv, path.geojson, plan.png, summary.json)")
       ->required();
-  cmd->add_option("--robot", o->robot,
-                  "Robot YAML (length_m, width_m, min_turn_radius_m, ...; see "
-                  "config/robot_seed004.yaml); default: the seed's 0.93 x 0.58 m chassis, R_min 1 m")
+  cmd->add_option(
+         "--robot", o->robot,
+         "Robot YAML (length_m, width_m, min_turn_radius_m, ...; see "
+         "config/robot_seed004.yaml); default: the seed's 0.93 x 0.58 m chassis, R_min 1 m")
       ->check(CLI::ExistingFile);
   cmd->add_option("--radius", o->radius_m,
                   "Minimum turning radius (m); default: the robot's min_turn_radius_m")

@@ -85,7 +85,7 @@ class Loop {
   GridGeometry area_;
   Grid2D truth_;
   std::vector<std::uint8_t> truth_blocked_, blocked_;
-  Grid2D grid_;  ///< the fused map on the area (planner input)
+  Grid2D grid_;                                       ///< the fused map on the area (planner input)
   std::unique_ptr<planning::PlanningMap> check_map_;  ///< the planner's view of grid_
   std::vector<double> step_costs_;  ///< the current plan's step costs when it was made
   NavigateResult r_;
@@ -116,8 +116,8 @@ void Loop::scan() {
                              Eigen::Translation3d(0, 0, scene_.sensor_height_m());
   const sim::SimFrame frame = lidar_.scan(t_, T_world_lidar);
   map_.add_scan(frame.cloud, sensor_, T_world_lidar);
-  grid_ = area_grid(map_, area_, cfg_.seen_no_ground_points, {pose_.x_m, pose_.y_m},
-                    blind_radius_m_);
+  grid_ =
+      area_grid(map_, area_, cfg_.seen_no_ground_points, {pose_.x_m, pose_.y_m}, blind_radius_m_);
   blocked_ = known_blocked(grid_);
   check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);
   map_updated_ = true;
@@ -131,9 +131,10 @@ std::string Loop::replan_trigger() {
   if (map_updated_) {
     const std::size_t k = follower_.index();
     if (planning::first_blocked_sample(*check_map_, follower_.path(), k)) return "blocked";
-    const auto now = planning::path_step_costs(*check_map_, follower_.path(),
-                                               planner_cfg_.tau_weight, planner_cfg_.reverse_factor);
-    const double before = std::accumulate(step_costs_.begin() + long(k) + 1, step_costs_.end(), 0.0);
+    const auto now = planning::path_step_costs(
+        *check_map_, follower_.path(), planner_cfg_.tau_weight, planner_cfg_.reverse_factor);
+    const double before =
+        std::accumulate(step_costs_.begin() + long(k) + 1, step_costs_.end(), 0.0);
     const double after = std::accumulate(now.begin() + long(k) + 1, now.end(), 0.0);
     if (after > (1.0 + cfg_.replan_cost_rise) * before + 1e-6) return "cost";
   }
@@ -171,7 +172,8 @@ void Loop::plan(const std::string& trigger) {
   const double ms = ms_since(t0);
   plan_ms_ += ms;
   last_plan_t_ = t_;
-  PlanRecord rec{t_, pose_, p.status, trigger, p.path, planning::path_length_m(p.path),
+  PlanRecord rec{t_,          pose_,       p.status,
+                 trigger,     p.path,      planning::path_length_m(p.path),
                  p.search_ms, p.expansions};
   r_.plans.push_back(std::move(rec));
   if (r_.plans.size() > 1) ++r_.replans;
@@ -192,10 +194,10 @@ void Loop::plan(const std::string& trigger) {
            fmt::format("{} on two successive map updates", planning::to_string(p.status)),
            NavigateState::kUnreachable);
   else if (!no_way && ++planner_failures_ >= 3)
-    finish(NavigateOutcome::kFailed,
-           fmt::format("the planner failed three times in a row ({})",
-                       planning::to_string(p.status)),
-           NavigateState::kFailed);
+    finish(
+        NavigateOutcome::kFailed,
+        fmt::format("the planner failed three times in a row ({})", planning::to_string(p.status)),
+        NavigateState::kFailed);
 }
 
 bool Loop::enters_known_blocked(const Pose2& next) const {
@@ -230,9 +232,8 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
   score_truth_plan();
 
   const double straight = std::hypot(goal.x_m - start.x_m, goal.y_m - start.y_m);
-  const double max_time = cfg_.max_time_s > 0
-                              ? cfg_.max_time_s
-                              : 40.0 + 4.0 * straight / cfg_.follower.max_speed_m_s;
+  const double max_time =
+      cfg_.max_time_s > 0 ? cfg_.max_time_s : 40.0 + 4.0 * straight / cfg_.follower.max_speed_m_s;
   const double dt = cfg_.control_period_s;
   double next_scan = 0.0;
   while (!done_) {
@@ -328,13 +329,14 @@ NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
   for (const auto& [name, p] : {std::pair{"start", start}, std::pair{"goal", goal}})
     if (p.x_m < scene.min_m().x() || p.y_m < scene.min_m().y() || p.x_m > scene.max_m().x() ||
         p.y_m > scene.max_m().y())
-      throw Error(fmt::format("navigate: {} ({:.2f}, {:.2f}) m is off the scene", name, p.x_m,
-                              p.y_m));
+      throw Error(
+          fmt::format("navigate: {} ({:.2f}, {:.2f}) m is off the scene", name, p.x_m, p.y_m));
   if (!(config.control_period_s > 0 && config.control_period_s <= 1.0) ||
       !(config.scan_period_s >= config.control_period_s && config.scan_period_s <= 10.0) ||
       !(config.replan_period_s > 0))
-    throw Error("navigate: control_period_s must be in (0, 1], scan_period_s in "
-                "[control_period_s, 10] and replan_period_s > 0");
+    throw Error(
+        "navigate: control_period_s must be in (0, 1], scan_period_s in "
+        "[control_period_s, 10] and replan_period_s > 0");
   Loop loop(scene, sensor, config);
   return loop.run(start, goal);
 }

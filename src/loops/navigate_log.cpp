@@ -14,21 +14,30 @@ planning::PlannerConfig navigate_planner_config() {
 
 const char* to_string(NavigateOutcome outcome) {
   switch (outcome) {
-    case NavigateOutcome::kArrived: return "arrived";
-    case NavigateOutcome::kUnreachable: return "unreachable";
-    case NavigateOutcome::kFailed: return "failed";
+    case NavigateOutcome::kArrived:
+      return "arrived";
+    case NavigateOutcome::kUnreachable:
+      return "unreachable";
+    case NavigateOutcome::kFailed:
+      return "failed";
   }
   return "?";
 }
 
 const char* to_string(NavigateState state) {
   switch (state) {
-    case NavigateState::kPlanning: return "planning";
-    case NavigateState::kDriving: return "driving";
-    case NavigateState::kSafetyStop: return "safety_stop";
-    case NavigateState::kArrived: return "arrived";
-    case NavigateState::kUnreachable: return "unreachable";
-    case NavigateState::kFailed: return "failed";
+    case NavigateState::kPlanning:
+      return "planning";
+    case NavigateState::kDriving:
+      return "driving";
+    case NavigateState::kSafetyStop:
+      return "safety_stop";
+    case NavigateState::kArrived:
+      return "arrived";
+    case NavigateState::kUnreachable:
+      return "unreachable";
+    case NavigateState::kFailed:
+      return "failed";
   }
   return "?";
 }

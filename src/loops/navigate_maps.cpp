@@ -19,8 +19,8 @@ Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityCon
   const auto slope = truth.layer("slope_deg");
   for (std::size_t i = 0; i < tau.size(); ++i)
     if (passable[i] > 0.5f)
-      tau[i] = float(std::clamp(
-          1.0 - layers.weight_slope * slope[i] / layers.robot.max_slope_deg, 0.01, 1.0));
+      tau[i] = float(
+          std::clamp(1.0 - layers.weight_slope * slope[i] / layers.robot.max_slope_deg, 0.01, 1.0));
   return out;
 }
 

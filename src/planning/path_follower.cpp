@@ -34,8 +34,8 @@ Pose2 PathFollower::lookahead_point(const Run& run, double s_m) const {
     const double d = (s_m - s_m_[run.end]) * (run.reverse ? -1.0 : 1.0);
     return {e.x_m + d * std::cos(e.yaw_rad), e.y_m + d * std::sin(e.yaw_rad), e.yaw_rad};
   }
-  const auto it = std::lower_bound(s_m_.begin() + long(run.begin), s_m_.begin() + long(run.end) + 1,
-                                   s_m);
+  const auto it =
+      std::lower_bound(s_m_.begin() + long(run.begin), s_m_.begin() + long(run.end) + 1, s_m);
   const std::size_t i = std::max<std::size_t>(std::size_t(it - s_m_.begin()), run.begin + 1);
   const double seg = s_m_[i] - s_m_[i - 1];
   const double u = seg > 1e-9 ? std::clamp((s_m - s_m_[i - 1]) / seg, 0.0, 1.0) : 1.0;
@@ -87,7 +87,8 @@ DriveCommand PathFollower::command(const Pose2& pose, double v_now_m_s, double d
       double speed = run.reverse ? config_.max_reverse_speed_m_s : config_.max_speed_m_s;
       speed = std::min(speed, std::max(config_.min_speed_m_s,
                                        std::sqrt(2.0 * config_.max_accel_m_s2 * remaining)));
-      if (std::abs(kappa) > 1e-9) speed = std::min(speed, config_.max_yaw_rate_rad_s / std::abs(kappa));
+      if (std::abs(kappa) > 1e-9)
+        speed = std::min(speed, config_.max_yaw_rate_rad_s / std::abs(kappa));
       const double dv = config_.max_accel_m_s2 * dt_s;
       cmd.v_m_s = std::clamp(dir * speed, v_now_m_s - dv, v_now_m_s + dv);
       cmd.yaw_rate_rad_s = cmd.v_m_s * kappa;

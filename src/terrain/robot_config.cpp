@@ -45,9 +45,12 @@ RobotConfig parse_robot_config(std::string_view text, const std::string& source)
   if (!node.IsMap()) throw Error(source + ": expected a map of robot sizes (length_m: 0.93, ...)");
   RobotConfig r;
   const std::pair<const char*, double*> fields[] = {
-      {"length_m", &r.length_m},           {"width_m", &r.width_m},
-      {"max_slope_deg", &r.max_slope_deg}, {"max_step_m", &r.max_step_m},
-      {"clearance_m", &r.clearance_m},     {"min_obstacle_height_m", &r.min_obstacle_height_m},
+      {"length_m", &r.length_m},
+      {"width_m", &r.width_m},
+      {"max_slope_deg", &r.max_slope_deg},
+      {"max_step_m", &r.max_step_m},
+      {"clearance_m", &r.clearance_m},
+      {"min_obstacle_height_m", &r.min_obstacle_height_m},
       {"min_turn_radius_m", &r.min_turn_radius_m}};
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();

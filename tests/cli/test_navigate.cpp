@@ -25,8 +25,8 @@ std::string slurp(const fs::path& p) {
 TEST(CliNavigate, ShortDriveWritesItsFilesAndKeepsThem) {
   const auto dir = temp_dir("cli_navigate");
   const auto out = dir / "nav";
-  const std::string args = "navigate --scene terrain --seed 0 --start 3,20,0 --goal 9,20,0 --out " +
-                           quoted(out);
+  const std::string args =
+      "navigate --scene terrain --seed 0 --start 3,20,0 --goal 9,20,0 --out " + quoted(out);
   const auto r = run_cli(args);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* n : {"plans.csv", "plans.geojson", "path.csv", "navigate_log.csv",

@@ -89,16 +89,15 @@ TEST(CliPlan, TurningRadiusFromTheRobotYaml) {
   const auto a = nlohmann::json::parse(slurp_file(dir / "a" / "summary.json"));
   EXPECT_DOUBLE_EQ(a["min_turn_radius_m"].get<double>(), 2.0);
   EXPECT_LE(a["max_curvature_per_m"].get<double>(), 0.5 + 1e-6);
-  ASSERT_EQ(run_cli(base + quoted(dir / "b") + " --robot " + quoted(dir / "robot.yaml") +
-                    " --radius 1.5")
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      run_cli(base + quoted(dir / "b") + " --robot " + quoted(dir / "robot.yaml") + " --radius 1.5")
+          .exit_code,
+      0);
   const auto b = nlohmann::json::parse(slurp_file(dir / "b" / "summary.json"));
   EXPECT_DOUBLE_EQ(b["min_turn_radius_m"].get<double>(), 1.5);
   const auto bad = run_cli(base + quoted(dir / "c") + " --robot " + quoted(dir / "bad.yaml"));
   EXPECT_EQ(bad.exit_code, 1);
-  EXPECT_NE(bad.output.find("min_turn_radius_m = 0.01 is absurd"), std::string::npos)
-      << bad.output;
+  EXPECT_NE(bad.output.find("min_turn_radius_m = 0.01 is absurd"), std::string::npos) << bad.output;
 }
 
 }  // namespace

@@ -22,11 +22,11 @@ const sim::Scene& scene0() {
 }
 
 void print(const char* name, const loops::NavigateResult& r) {
-  std::printf("%s: %s (%s), driven %.2f m, truth plan %.2f m, ratio %.3f, %d replans, %zu frames "
-              "on impassable, %zu scans, %.1f s simulated, %.1f s wall\n",
-              name, loops::to_string(r.outcome), r.reason.c_str(), r.driven_length_m,
-              r.truth_length_m, r.length_ratio, r.replans, r.frames_on_impassable, r.scans,
-              r.duration_s, r.wall_s);
+  std::printf(
+      "%s: %s (%s), driven %.2f m, truth plan %.2f m, ratio %.3f, %d replans, %zu frames "
+      "on impassable, %zu scans, %.1f s simulated, %.1f s wall\n",
+      name, loops::to_string(r.outcome), r.reason.c_str(), r.driven_length_m, r.truth_length_m,
+      r.length_ratio, r.replans, r.frames_on_impassable, r.scans, r.duration_s, r.wall_s);
 }
 
 }  // namespace
@@ -46,8 +46,8 @@ TEST(Navigate, ShortDriveArrives) {
 
 // Facing the scene's west edge 1.2 m away: the way out needs a reverse run.
 TEST(Navigate, BacksOutFromTheEdge) {
-  const auto r = loops::run_navigate(scene0(), SensorModel::vlp16(), {1.2, 20, std::numbers::pi},
-                                     {8, 20, 0});
+  const auto r =
+      loops::run_navigate(scene0(), SensorModel::vlp16(), {1.2, 20, std::numbers::pi}, {8, 20, 0});
   print("reverse_out", r);
   EXPECT_EQ(r.outcome, loops::NavigateOutcome::kArrived) << r.reason;
   EXPECT_EQ(r.frames_on_impassable, 0u);
@@ -60,8 +60,7 @@ TEST(Navigate, BacksOutFromTheEdge) {
 TEST(Navigate, BadInputIsAnError) {
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {NAN, 20, 0}, {8, 20, 0}),
                Error);
-  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {80, 20, 0}),
-               Error);
+  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {80, 20, 0}), Error);
   loops::NavigateConfig bad;
   bad.fusion.layers.robot.min_turn_radius_m = 0.0;
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),

@@ -48,10 +48,8 @@ TEST(RobotConfigYaml, AbsurdOrUnknownValuesAreClearErrors) {
             std::string::npos);
   EXPECT_NE(error_of("min_turn_radius_m: 0").find("min_turn_radius_m = 0 is absurd"),
             std::string::npos);
-  EXPECT_NE(error_of("min_turn_radius_m: 500").find("min_turn_radius_m = 500"),
-            std::string::npos);
-  EXPECT_NE(error_of("min_turn_radius_m: .nan").find("min_turn_radius_m = nan"),
-            std::string::npos);
+  EXPECT_NE(error_of("min_turn_radius_m: 500").find("min_turn_radius_m = 500"), std::string::npos);
+  EXPECT_NE(error_of("min_turn_radius_m: .nan").find("min_turn_radius_m = nan"), std::string::npos);
   EXPECT_NE(error_of("lenght_m: 1").find("unknown key 'lenght_m'"), std::string::npos);
   EXPECT_NE(error_of("length_m: big").find("length_m is not a number"), std::string::npos);
   EXPECT_NE(error_of("[1, 2").find("not YAML"), std::string::npos);

@@ -14,9 +14,13 @@ namespace {
 namespace fs = std::filesystem;
 namespace L = terrain::layer;
 
-nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
+nlohmann::json number_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nullptr;
+}
 
-nlohmann::json pose_json(const planning::Pose2& p) { return {p.x_m, p.y_m, p.yaw_rad}; }
+nlohmann::json pose_json(const planning::Pose2& p) {
+  return {p.x_m, p.y_m, p.yaw_rad};
+}
 
 std::string plans_csv(const loops::NavigateResult& r) {
   std::string s = "plan,t_s,trigger,status,x_m,y_m,yaw_rad,reverse\n";
@@ -86,8 +90,9 @@ void draw(const loops::NavigateResult& r, const std::string& title, const fs::pa
     for (int ix = 0; ix < g.width; ++ix) {
       const std::size_t i = g.linear_index(ix, iy);
       const double s = std::clamp(slope[i] / 25.0, 0.0, 1.0);
-      canvas.cell(g, ix, iy,
-                  passable[i] < 0.5f ? Rgb{0, 0, 0} : Rgb{1.0 - 0.4 * s, 1.0 - 0.2 * s, 1.0 - 0.4 * s});
+      canvas.cell(
+          g, ix, iy,
+          passable[i] < 0.5f ? Rgb{0, 0, 0} : Rgb{1.0 - 0.4 * s, 1.0 - 0.2 * s, 1.0 - 0.4 * s});
       const bool known = std::isfinite(tau[i]) && pts[i] > 0.f;
       const bool blocked = imp[i] > 0.5f || (known && tau[i] <= 0.f);
       const double t = known ? tau[i] : 0.0;
@@ -134,8 +139,8 @@ void draw(const loops::NavigateResult& r, const std::string& title, const fs::pa
 }  // namespace
 
 std::vector<fs::path> navigate_files(const fs::path& dir) {
-  return {dir / "plans.csv", dir / "plans.geojson", dir / "path.csv", dir / "navigate_log.csv",
-          dir / "summary.json", dir / "navigate.png"};
+  return {dir / "plans.csv",        dir / "plans.geojson", dir / "path.csv",
+          dir / "navigate_log.csv", dir / "summary.json",  dir / "navigate.png"};
 }
 
 nlohmann::json navigate_summary(const loops::NavigateResult& r) {

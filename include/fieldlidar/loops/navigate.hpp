@@ -11,9 +11,9 @@
 /// to be impassable: before every control step its exact footprint at the next pose is checked
 /// against the built map, and a step that would enter a known-impassable cell is not taken
 /// (emergency stop and re-plan). A cell seen well (seen_no_ground_points returns) in which the
-/// map found no ground is not unknown but impassable. A goal is unreachable when, on two successive map updates, the
-/// whole search space (unknown cells included) holds no path or the goal's footprint is known
-/// impassable.
+/// map found no ground is not unknown but impassable. A goal is unreachable when, on two successive
+/// map updates, the whole search space (unknown cells included) holds no path or the goal's
+/// footprint is known impassable.
 
 #include <cstdint>
 #include <string>
@@ -63,7 +63,7 @@ struct NavigateConfig {
   double replan_cost_rise = 0.1;  ///< re-plan when the rest of the path costs this share more
   /// A plan that runs out of time or expansions is tried once more with this many times both.
   double retry_budget_factor = 5.0;
-  double goal_tolerance_m = 0.3;  ///< arrived: this close to the goal ...
+  double goal_tolerance_m = 0.3;        ///< arrived: this close to the goal ...
   double goal_yaw_tolerance_rad = 0.3;  ///< ... and this well aligned
   double max_time_s = 0.0;              ///< 0: 40 s + 4 x the straight distance / cruise speed
   int max_safety_stops = 30;            ///< more emergency stops than this: failed
@@ -111,12 +111,12 @@ struct NavigateResult {
   int replans = 0;  ///< plans after the first
   int safety_stops = 0;
   std::size_t scans = 0;
-  double duration_s = 0;   ///< simulated time
-  double wall_s = 0;       ///< the run's wall-clock time
-  double scan_ms = 0;      ///< mean wall time per mapped sweep (simulation + fusion)
-  double plan_ms = 0;      ///< mean wall time per plan (map build + search)
-  Grid2D built_map;        ///< planner's input at the end (traversability, impassable, points)
-  Grid2D truth;            ///< Scene::terrain_truth at the map's cells
+  double duration_s = 0;  ///< simulated time
+  double wall_s = 0;      ///< the run's wall-clock time
+  double scan_ms = 0;     ///< mean wall time per mapped sweep (simulation + fusion)
+  double plan_ms = 0;     ///< mean wall time per plan (map build + search)
+  Grid2D built_map;       ///< planner's input at the end (traversability, impassable, points)
+  Grid2D truth;           ///< Scene::terrain_truth at the map's cells
 };
 
 /// Drives from `start` to `goal` on `scene` (a terrain scene). Throws fieldlidar::Error on an

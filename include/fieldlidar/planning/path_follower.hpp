@@ -26,10 +26,10 @@ struct FollowerConfig {
 struct DriveCommand {
   double v_m_s = 0.0;
   double yaw_rate_rad_s = 0.0;
-  bool done = false;              ///< the path's last run is finished: stand still
-  std::size_t index = 0;          ///< the path sample the robot is at (progress)
-  double cross_track_m = 0.0;     ///< distance to that sample
-  double remaining_m = 0.0;       ///< path length still to drive
+  bool done = false;           ///< the path's last run is finished: stand still
+  std::size_t index = 0;       ///< the path sample the robot is at (progress)
+  double cross_track_m = 0.0;  ///< distance to that sample
+  double remaining_m = 0.0;    ///< path length still to drive
 };
 
 class PathFollower {
