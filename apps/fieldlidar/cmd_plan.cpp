@@ -1,10 +1,10 @@
-// fieldlidar plan --map DIR --start x,y,yaw --goal x,y,yaw --out DIR: Hybrid A* (seed 004, step
-// f) on a saved traversability map (nav2 YAML + PGM): path CSV, GeoJSON, PNG and a summary.
+// fieldlidar plan --map DIR --start x,y,yaw --goal x,y,yaw [--robot robot.yaml] --out DIR:
+// Hybrid A* (seed 004, step f) on a saved traversability map (nav2 YAML + PGM): path CSV,
+// GeoJSON, PNG and a summary.
 
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <sstream>
 #include <string>
 
 #include <fmt/core.h>
@@ -15,8 +15,11 @@
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/nav2_map.hpp"
 #include "fieldlidar/planning/hybrid_astar.hpp"
+#include "fieldlidar/planning/planner_for_robot.hpp"
+#include "fieldlidar/terrain/robot_config.hpp"
 #include "support/canvas.hpp"
 #include "support/option_checks.hpp"
+#include "support/planar_paths.hpp"
 
 namespace fieldlidar::app {
 namespace {
@@ -25,23 +28,11 @@ namespace fs = std::filesystem;
 namespace L = terrain::layer;
 
 struct PlanOptions {
-  std::string map, start, goal, out;
-  double radius_m = planning::PlannerConfig{}.min_turn_radius_m;
+  std::string map, start, goal, out, robot;
+  double radius_m = 0.0;  ///< 0: the robot's min_turn_radius_m
   double budget_ms = 1000.0;
   bool allow_unknown = true, no_smooth = false, force = false;
 };
-
-planning::Pose2 parse_pose(const std::string& text, const std::string& option) {
-  std::string s = text;
-  for (char& c : s)
-    if (c == ',') c = ' ';
-  std::istringstream in(s);
-  planning::Pose2 p;
-  std::string extra;
-  if (!(in >> p.x_m >> p.y_m >> p.yaw_rad) || (in >> extra))
-    throw Error(option + ": '" + text + "' is not x,y,yaw (m, m, rad)");
-  return p;
-}
 
 fs::path map_yaml(const std::string& map) {
   const fs::path p(map);
@@ -53,14 +44,6 @@ fs::path map_yaml(const std::string& map) {
   }
   if (!fs::exists(p)) throw Error("--map " + map + ": no such file or folder");
   return p;
-}
-
-std::string path_csv(const planning::Path& path) {
-  std::string s = "x_m,y_m,yaw_rad,reverse\n";
-  for (const auto& p : path)
-    s += fmt::format("{:.4f},{:.4f},{:.5f},{}\n", p.pose.x_m, p.pose.y_m, p.pose.yaw_rad,
-                     int(p.reverse));
-  return s;
 }
 
 std::string path_geojson(const planning::Path& path, const planning::Pose2& start,
@@ -125,13 +108,15 @@ void run(const PlanOptions& o) {
   for (const char* n : {"path.csv", "path_raw.csv", "path.geojson", "plan.png", "summary.json"})
     io::check_writable(out / n, o.force, {yaml});
 
+  const terrain::RobotConfig robot =
+      o.robot.empty() ? terrain::RobotConfig{} : terrain::load_robot_config(o.robot);
   Grid2D map = io::read_nav2_map(yaml, L::kTraversability);
-  planning::PlannerConfig cfg;
-  cfg.min_turn_radius_m = o.radius_m;
+  planning::PlannerConfig cfg = planning::planner_config_for(robot);
+  if (o.radius_m > 0) cfg.min_turn_radius_m = o.radius_m;
   cfg.time_budget_ms = o.budget_ms;
   cfg.smooth = !o.no_smooth;
   cfg.map.allow_unknown = o.allow_unknown;
-  planning::HybridAStar planner(map, terrain::RobotConfig{}, cfg);
+  planning::HybridAStar planner(map, robot, cfg);
   const planning::PlanResult r = planner.plan(start, goal);
 
   nlohmann::json j;
@@ -140,6 +125,10 @@ void run(const PlanOptions& o) {
   j["start"] = {start.x_m, start.y_m, start.yaw_rad};
   j["goal"] = {goal.x_m, goal.y_m, goal.yaw_rad};
   j["min_turn_radius_m"] = cfg.min_turn_radius_m;
+  j["robot"] = {{"source", o.robot.empty() ? std::string("default (seed 004 chassis)") : o.robot},
+                {"length_m", robot.length_m},
+                {"width_m", robot.width_m},
+                {"min_turn_radius_m", robot.min_turn_radius_m}};
   j["expansions"] = r.expansions;
   j["search_ms"] = r.search_ms;
   j["heuristic_ms"] = r.heuristic_ms;
@@ -190,8 +179,13 @@ void add_plan_command(CLI::App& app) {
   cmd->add_option("--goal", o->goal, "Goal pose x,y,yaw (m, m, rad; map frame)")->required();
   cmd->add_option("--out", o->out, "Output folder (path.csv, path.geojson, plan.png, summary.json)")
       ->required();
-  cmd->add_option("--radius", o->radius_m, "Minimum turning radius (m)")
-      ->capture_default_str()
+  cmd->add_option(
+         "--robot", o->robot,
+         "Robot YAML (length_m, width_m, min_turn_radius_m, ...; see "
+         "config/robot_seed004.yaml); default: the seed's 0.93 x 0.58 m chassis, R_min 1 m")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--radius", o->radius_m,
+                  "Minimum turning radius (m); default: the robot's min_turn_radius_m")
       ->check(real_in(0.1, 100.0));
   cmd->add_option("--budget-ms", o->budget_ms, "Time budget of the plan (ms)")
       ->capture_default_str()

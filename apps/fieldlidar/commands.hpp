@@ -22,5 +22,6 @@ void add_odometry_command(CLI::App& app);
 void add_trunks_command(CLI::App& app);
 void add_traversability_command(CLI::App& app);
 void add_plan_command(CLI::App& app);
+void add_navigate_command(CLI::App& app);
 
 }  // namespace fieldlidar::app

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   fieldlidar::app::add_trunks_command(app);
   fieldlidar::app::add_traversability_command(app);
   fieldlidar::app::add_plan_command(app);
+  fieldlidar::app::add_navigate_command(app);
 
   try {
     if (argc == 1)

@@ -30,6 +30,8 @@ void check_robot_config(const RobotConfig& r, const std::string& source) {
   check(source, "min_obstacle_height_m", r.min_obstacle_height_m,
         r.min_obstacle_height_m >= 0 && r.min_obstacle_height_m < r.clearance_m,
         "[0, clearance_m)");
+  check(source, "min_turn_radius_m", r.min_turn_radius_m,
+        r.min_turn_radius_m >= 0.1 && r.min_turn_radius_m <= 100, "[0.1, 100] m");
 }
 
 RobotConfig parse_robot_config(std::string_view text, const std::string& source) {
@@ -43,9 +45,13 @@ RobotConfig parse_robot_config(std::string_view text, const std::string& source)
   if (!node.IsMap()) throw Error(source + ": expected a map of robot sizes (length_m: 0.93, ...)");
   RobotConfig r;
   const std::pair<const char*, double*> fields[] = {
-      {"length_m", &r.length_m},           {"width_m", &r.width_m},
-      {"max_slope_deg", &r.max_slope_deg}, {"max_step_m", &r.max_step_m},
-      {"clearance_m", &r.clearance_m},     {"min_obstacle_height_m", &r.min_obstacle_height_m}};
+      {"length_m", &r.length_m},
+      {"width_m", &r.width_m},
+      {"max_slope_deg", &r.max_slope_deg},
+      {"max_step_m", &r.max_step_m},
+      {"clearance_m", &r.clearance_m},
+      {"min_obstacle_height_m", &r.min_obstacle_height_m},
+      {"min_turn_radius_m", &r.min_turn_radius_m}};
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();
     double* target = nullptr;
@@ -54,7 +60,7 @@ RobotConfig parse_robot_config(std::string_view text, const std::string& source)
     if (!target)
       throw Error(source + ": unknown key '" + key +
                   "' (length_m, width_m, max_slope_deg, max_step_m, clearance_m, "
-                  "min_obstacle_height_m)");
+                  "min_obstacle_height_m, min_turn_radius_m)");
     try {
       *target = kv.second.as<double>();
     } catch (const YAML::Exception&) {

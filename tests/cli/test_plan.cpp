@@ -74,5 +74,31 @@ TEST(CliPlan, PathRoundAWallAndATypedFailure) {
   EXPECT_NE(nan.output.find("--start"), std::string::npos) << nan.output;
 }
 
+// --robot: the robot YAML's min_turn_radius_m is the plan's R_min (--radius still overrides it),
+// and an absurd one is refused naming the field.
+TEST(CliPlan, TurningRadiusFromTheRobotYaml) {
+  const auto dir = temp_dir("cli_plan_robot");
+  write_map(dir / "map");
+  io::write_file_atomic(dir / "robot.yaml", std::string("robot:\n  min_turn_radius_m: 2.0\n"),
+                        true);
+  io::write_file_atomic(dir / "bad.yaml", std::string("min_turn_radius_m: 0.01\n"), true);
+  const std::string base =
+      "plan --map " + quoted(dir / "map") + " --start 5,5,0 --goal 25,5,0 --out ";
+  ASSERT_EQ(run_cli(base + quoted(dir / "a") + " --robot " + quoted(dir / "robot.yaml")).exit_code,
+            0);
+  const auto a = nlohmann::json::parse(slurp_file(dir / "a" / "summary.json"));
+  EXPECT_DOUBLE_EQ(a["min_turn_radius_m"].get<double>(), 2.0);
+  EXPECT_LE(a["max_curvature_per_m"].get<double>(), 0.5 + 1e-6);
+  ASSERT_EQ(
+      run_cli(base + quoted(dir / "b") + " --robot " + quoted(dir / "robot.yaml") + " --radius 1.5")
+          .exit_code,
+      0);
+  const auto b = nlohmann::json::parse(slurp_file(dir / "b" / "summary.json"));
+  EXPECT_DOUBLE_EQ(b["min_turn_radius_m"].get<double>(), 1.5);
+  const auto bad = run_cli(base + quoted(dir / "c") + " --robot " + quoted(dir / "bad.yaml"));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("min_turn_radius_m = 0.01 is absurd"), std::string::npos) << bad.output;
+}
+
 }  // namespace
 }  // namespace fieldlidar::test

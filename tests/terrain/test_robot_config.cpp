@@ -33,6 +33,8 @@ TEST(RobotConfigYaml, ReadsTheBlockOrABareMap) {
   const RobotConfig b = parse_robot_config("max_step_m: 0.3\nclearance_m: 0.9\n", "r");
   EXPECT_DOUBLE_EQ(b.max_step_m, 0.3);
   EXPECT_DOUBLE_EQ(b.clearance_m, 0.9);
+  EXPECT_DOUBLE_EQ(b.min_turn_radius_m, 1.0);  // the seed chassis' R_min
+  EXPECT_DOUBLE_EQ(parse_robot_config("min_turn_radius_m: 2.5", "r").min_turn_radius_m, 2.5);
 }
 
 TEST(RobotConfigYaml, AbsurdOrUnknownValuesAreClearErrors) {
@@ -44,6 +46,10 @@ TEST(RobotConfigYaml, AbsurdOrUnknownValuesAreClearErrors) {
   EXPECT_NE(error_of("clearance_m: 0.1\nmin_obstacle_height_m: 0.15")
                 .find("min_obstacle_height_m = 0.15"),
             std::string::npos);
+  EXPECT_NE(error_of("min_turn_radius_m: 0").find("min_turn_radius_m = 0 is absurd"),
+            std::string::npos);
+  EXPECT_NE(error_of("min_turn_radius_m: 500").find("min_turn_radius_m = 500"), std::string::npos);
+  EXPECT_NE(error_of("min_turn_radius_m: .nan").find("min_turn_radius_m = nan"), std::string::npos);
   EXPECT_NE(error_of("lenght_m: 1").find("unknown key 'lenght_m'"), std::string::npos);
   EXPECT_NE(error_of("length_m: big").find("length_m is not a number"), std::string::npos);
   EXPECT_NE(error_of("[1, 2").find("not YAML"), std::string::npos);

@@ -13,15 +13,13 @@
 
 namespace fieldlidar::planning {
 
-/// Search settings. The default minimum turning radius is 1.0 m for the seed's 0.93 x 0.58 m
-/// four-wheel skid-steer chassis: turning about its centre (R = 0) scrubs all four tyres
-/// sideways, which on rough or soft ground digs in and slews the robot off its plan; at R = 1 m
-/// the inner wheels (0.29 m inside the centre line) still roll forward at 71 % of the outer
-/// wheels' speed, the lateral scrub of a 0.93 m long skid-steer base stays small, and every
-/// U-turn fits in a 2 m (4-cell) wide lane of a 0.5 m map. Smaller radii make the search find
-/// tighter but less followable paths.
+/// Search settings. The default minimum turning radius is the default robot's
+/// (terrain::RobotConfig::min_turn_radius_m, 1.0 m for the seed's chassis; why there);
+/// planner_config_for (planner_for_robot.hpp) takes another robot's. Smaller radii make the
+/// search find tighter but less followable paths.
 struct PlannerConfig {
-  double min_turn_radius_m = 1.0;  ///< R_min; valid range [0.1, 100] m
+  /// R_min; valid range [0.1, 100] m
+  double min_turn_radius_m = terrain::RobotConfig{}.min_turn_radius_m;
   int heading_bins = 72;           ///< search lattice headings (5 deg)
   /// Arc length of one motion primitive (m); 0: just over a cell diagonal, so a child always
   /// leaves its parent's cell.

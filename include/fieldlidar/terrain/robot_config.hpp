@@ -9,6 +9,7 @@
 ///       max_step_m: 0.20          # h_max, (0, 5]
 ///       clearance_m: 1.2          # (0, 20], above min_obstacle_height_m
 ///       min_obstacle_height_m: 0.15  # [0, clearance_m)
+///       min_turn_radius_m: 1.0    # R_min of the planner, [0.1, 100]
 ///
 /// Keys left out keep RobotConfig's defaults (the seed's chassis).
 

@@ -21,6 +21,13 @@ struct RobotConfig {
   double max_step_m = 0.20;     ///< h_max: larger steps or pits within a cell are impassable
   double clearance_m = 1.2;     ///< objects higher than this above the ground are overhangs
   double min_obstacle_height_m = 0.15;  ///< lower objects are driven over
+  /// R_min, the tightest turn the planner may ask for (m). 1.0 m for the seed's 0.93 x 0.58 m
+  /// four-wheel skid-steer chassis: turning about its centre (R = 0) scrubs all four tyres
+  /// sideways, which on rough or soft ground digs in and slews the robot off its plan; at R = 1 m
+  /// the inner wheels (0.29 m inside the centre line) still roll forward at 71 % of the outer
+  /// wheels' speed, the lateral scrub of a 0.93 m long base stays small, and every U-turn fits
+  /// in a 2 m (4-cell) wide lane of a 0.5 m map.
+  double min_turn_radius_m = 1.0;
 };
 
 /// How the map is made. The voxel side g_l (formula (1) of the seed is lost) is the robot's

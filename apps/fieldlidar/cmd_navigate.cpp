@@ -1,0 +1,244 @@
+// fieldlidar navigate [--scene terrain] [--seed N] [--start x,y,yaw] [--goal x,y,yaw]
+// [--robot robot.yaml] [--pairs FILE] --out DIR: seed 004 in closed loop in the simulator
+// (simulated VLP-16 scans -> fused traversability map -> Hybrid A* -> pure pursuit -> motion,
+// re-planning as the map grows). One run, or every start/goal pair of a file with a table.
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/io/file_util.hpp"
+#include "fieldlidar/loops/navigate.hpp"
+#include "fieldlidar/sim/scenes.hpp"
+#include "fieldlidar/terrain/robot_config.hpp"
+#include "support/navigate_output.hpp"
+#include "support/option_checks.hpp"
+#include "support/planar_paths.hpp"
+
+namespace fieldlidar::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct NavigateOptions {
+  std::string scene = "terrain", start, goal, robot, pairs, out;
+  std::uint64_t seed = 0;
+  double max_time_s = 0, replan_period_s = loops::NavigateConfig{}.replan_period_s;
+  double speed_m_s = loops::NavigateConfig{}.follower.max_speed_m_s;
+  int seen_no_ground_points = loops::NavigateConfig{}.seen_no_ground_points;
+  double margin_m = loops::NavigateConfig{}.planner.map.footprint_margin_m;
+  double shadow_radius_m = loops::NavigateConfig{}.shadow_radius_m;
+  bool force = false;
+};
+
+struct Pair {
+  std::string name;
+  planning::Pose2 start, goal;
+  std::string expect;  ///< "arrived", "unreachable" or "" (not said)
+};
+
+/// Lines "name, sx, sy, syaw, gx, gy, gyaw[, expect]" ('#' starts a comment).
+std::vector<Pair> read_pairs(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw Error("--pairs " + file + ": cannot read");
+  std::vector<Pair> out;
+  std::string text;
+  for (int n = 1; std::getline(in, text); ++n) {
+    if (const auto h = text.find('#'); h != std::string::npos) text.resize(h);
+    std::vector<std::string> f;
+    std::stringstream ss(text);
+    for (std::string cell; std::getline(ss, cell, ',');) {
+      const auto a = cell.find_first_not_of(" \t\r"), b = cell.find_last_not_of(" \t\r");
+      f.push_back(a == std::string::npos ? "" : cell.substr(a, b - a + 1));
+    }
+    if (f.empty() || (f.size() == 1 && f[0].empty())) continue;
+    const std::string where = fmt::format("--pairs {} line {}", file, n);
+    if (f.size() != 7 && f.size() != 8)
+      throw Error(where + ": expected name,sx,sy,syaw,gx,gy,gyaw[,expect]");
+    Pair p{f[0], parse_pose(f[1] + "," + f[2] + "," + f[3], where + " start"),
+           parse_pose(f[4] + "," + f[5] + "," + f[6], where + " goal"), f.size() == 8 ? f[7] : ""};
+    if (p.name.empty() || p.name.find_first_of("/\\") != std::string::npos || p.name[0] == '.')
+      throw Error(where + ": '" + p.name + "' is not a folder name");
+    if (!p.expect.empty() && p.expect != "arrived" && p.expect != "unreachable")
+      throw Error(where + ": expect '" + p.expect + "' is not arrived or unreachable");
+    out.push_back(p);
+  }
+  if (out.empty()) throw Error("--pairs " + file + ": no pair in the file");
+  return out;
+}
+
+/// The scene's route start (heading to its second waypoint) and end.
+Pair default_pair(const sim::Scene& scene) {
+  const auto& r = scene.robot_route();
+  const auto yaw = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return std::atan2(b.y() - a.y(), b.x() - a.x());
+  };
+  const std::size_t n = r.size();
+  return {"route",
+          {r[0].x(), r[0].y(), yaw(r[0], r[1])},
+          {r[n - 1].x(), r[n - 1].y(), yaw(r[n - 2], r[n - 1])},
+          ""};
+}
+
+std::string row_text(const Pair& p, const loops::NavigateResult& r) {
+  return fmt::format("{:<14} {:<11} {:>8.1f} {:>8.1f} {:>6} {:>6} {:>6} {:>7.1f} {:>7.1f}  {}",
+                     p.name, loops::to_string(r.outcome), r.driven_length_m,
+                     std::isfinite(r.truth_length_m) ? r.truth_length_m : 0.0,
+                     std::isfinite(r.length_ratio) ? fmt::format("{:.3f}", r.length_ratio) : "-",
+                     r.replans, r.frames_on_impassable, r.duration_s, r.wall_s, r.reason);
+}
+
+void run(const NavigateOptions& o) {
+  if (o.scene != "terrain") throw Error("--scene '" + o.scene + "': only 'terrain' is supported");
+  require(o.pairs.empty() || (o.start.empty() && o.goal.empty()), "--pairs",
+          "takes the starts and goals from the file: leave out --start and --goal");
+  loops::NavigateConfig cfg;
+  if (!o.robot.empty()) cfg.fusion.layers.robot = terrain::load_robot_config(o.robot);
+  cfg.max_time_s = o.max_time_s;
+  cfg.replan_period_s = o.replan_period_s;
+  cfg.follower.max_speed_m_s = o.speed_m_s;
+  cfg.seen_no_ground_points = o.seen_no_ground_points;
+  cfg.planner.map.footprint_margin_m = o.margin_m;
+  cfg.shadow_radius_m = o.shadow_radius_m;
+  const sim::Scene scene = sim::make_terrain_scene({}, o.seed);
+  std::vector<Pair> pairs;
+  if (!o.pairs.empty()) {
+    pairs = read_pairs(o.pairs);
+  } else {
+    Pair p = default_pair(scene);
+    if (!o.start.empty()) p.start = parse_pose(o.start, "--start");
+    if (!o.goal.empty()) p.goal = parse_pose(o.goal, "--goal");
+    pairs.push_back(p);
+  }
+  const fs::path out(o.out);
+  if (fs::exists(out) && !fs::is_directory(out))
+    throw Error("navigate: --out " + o.out + " exists and is not a folder");
+  const bool many = !o.pairs.empty();
+  std::vector<fs::path> files;
+  for (const auto& p : pairs)
+    for (const auto& f : navigate_files(many ? out / p.name : out)) files.push_back(f);
+  if (many) files.push_back(out / "pairs.csv");
+  for (const auto& f : files)
+    if (fs::exists(f) && !o.force)
+      throw Error("navigate: " + f.string() + " exists (use --force to replace it)");
+  const SensorModel sensor = SensorModel::vlp16();
+  const std::string header =
+      fmt::format("{:<14} {:<11} {:>8} {:>8} {:>6} {:>6} {:>6} {:>7} {:>7}  {}", "pair", "outcome",
+                  "driven_m", "truth_m", "ratio", "replan", "imp_fr", "sim_s", "wall_s", "reason");
+  std::string table_csv =
+      "pair,expect,outcome,driven_m,truth_plan_m,ratio,replans,frames_on_impassable,sim_s,wall_s,"
+      "reason\n";
+  std::vector<std::string> lines;
+  int mismatches = 0;
+  for (const auto& p : pairs) {
+    const fs::path dir = many ? out / p.name : out;
+    fs::create_directories(dir);
+    for (const auto& f : navigate_files(dir)) io::check_writable(f, o.force);
+    fmt::print(stderr, "navigate {}: ({:.1f}, {:.1f}, {:.2f}) -> ({:.1f}, {:.1f}, {:.2f}) ...\n",
+               p.name, p.start.x_m, p.start.y_m, p.start.yaw_rad, p.goal.x_m, p.goal.y_m,
+               p.goal.yaw_rad);
+    const loops::NavigateResult r = loops::run_navigate(scene, sensor, p.start, p.goal, cfg);
+    nlohmann::json extra = {{"scene", o.scene},
+                            {"seed", o.seed},
+                            {"pair", p.name},
+                            {"sensor", sensor.name},
+                            {"robot",
+                             {{"length_m", cfg.fusion.layers.robot.length_m},
+                              {"width_m", cfg.fusion.layers.robot.width_m},
+                              {"max_slope_deg", cfg.fusion.layers.robot.max_slope_deg},
+                              {"max_step_m", cfg.fusion.layers.robot.max_step_m},
+                              {"min_turn_radius_m", cfg.fusion.layers.robot.min_turn_radius_m}}}};
+    if (!p.expect.empty()) extra["expected"] = p.expect;
+    write_navigate_run(dir, r, extra,
+                       fmt::format("fieldlidar navigate: terrain seed {}, {}: {} ({:.1f} m driven, "
+                                   "{} replans, {} frames on truth-impassable)",
+                                   o.seed, p.name, loops::to_string(r.outcome), r.driven_length_m,
+                                   r.replans, r.frames_on_impassable),
+                       o.force);
+    const bool mismatch = !p.expect.empty() && p.expect != loops::to_string(r.outcome);
+    mismatches += mismatch;
+    lines.push_back(row_text(p, r) + (mismatch ? "  (expected " + p.expect + ")" : ""));
+    fmt::print(stderr, "  {}\n", lines.back());
+    table_csv += fmt::format("{},{},{},{:.2f},{:.2f},{:.4f},{},{},{:.1f},{:.1f},\"{}\"\n", p.name,
+                             p.expect, loops::to_string(r.outcome), r.driven_length_m,
+                             r.truth_length_m, r.length_ratio, r.replans, r.frames_on_impassable,
+                             r.duration_s, r.wall_s, r.reason);
+  }
+  if (many) io::write_file_atomic(out / "pairs.csv", table_csv, o.force);
+  fmt::print("{}\n", header);
+  for (const auto& l : lines) fmt::print("{}\n", l);
+  fmt::print("wrote {}\n", out.string());
+  if (mismatches)
+    throw Error(
+        fmt::format("navigate: {} of {} pairs did not end as expected", mismatches, pairs.size()));
+}
+
+}  // namespace
+
+void add_navigate_command(CLI::App& app) {
+  auto o = std::make_shared<NavigateOptions>();
+  auto* cmd = app.add_subcommand(
+      "navigate",
+      "Simulated off-road robot driving itself to a goal: VLP-16 scans -> fused traversability "
+      "map (true poses) -> Hybrid A* -> pure pursuit, re-planning as the map grows");
+  cmd->add_option("--scene", o->scene, "Simulated scene (terrain, 60 x 40 m)")
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Scene seed")
+      ->capture_default_str()
+      ->check(whole_in(0, 9223372036854775807LL));
+  cmd->add_option("--start", o->start,
+                  "Start pose x,y,yaw (m, m, rad; scene frame); default: the scene route's start");
+  cmd->add_option("--goal", o->goal,
+                  "Goal pose x,y,yaw (m, m, rad; scene frame); default: the scene route's end");
+  cmd->add_option("--robot", o->robot,
+                  "Robot YAML (sizes, slope and step limits, min_turn_radius_m; see "
+                  "config/robot_seed004.yaml); default: the seed's 0.93 x 0.58 m chassis")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--pairs", o->pairs,
+                  "File of start/goal pairs, one per line: name,sx,sy,syaw,gx,gy,gyaw[,expect] "
+                  "(m, rad; expect arrived or unreachable): each run in DIR/name, the table in "
+                  "DIR/pairs.csv; fails when a pair does not end as expected")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--speed", o->speed_m_s, "Cruise speed (m/s)")
+      ->capture_default_str()
+      ->check(real_above(0, 5));
+  cmd->add_option("--seen-no-ground", o->seen_no_ground_points,
+                  "A cell with this many returns, its neighbours seen, but no ground is "
+                  "impassable (a slope too steep for the ground segmentation); 0: unknown")
+      ->capture_default_str()
+      ->check(whole_in(0, 1000000));
+  cmd->add_option("--margin", o->margin_m,
+                  "Clearance (m) the planner keeps around the robot's rectangle")
+      ->capture_default_str()
+      ->check(real_in(0, 2));
+  cmd->add_option("--shadow-radius", o->shadow_radius_m,
+                  "Cells never seen within this distance (m) of the robot are shadows (hidden "
+                  "ground: behind a rock, inside a ditch), planned as costly rather than unknown; "
+                  "0: off")
+      ->capture_default_str()
+      ->check(real_in(0, 100));
+  cmd->add_option("--replan-period", o->replan_period_s, "Re-plan at least this often (s)")
+      ->capture_default_str()
+      ->check(real_above(0, 3600));
+  cmd->add_option("--max-time", o->max_time_s,
+                  "Simulated time limit per run (s); default 40 s + 4 x straight distance / speed")
+      ->check(real_above(0, 86400));
+  cmd->add_option("--out", o->out,
+                  "Output folder: plans.csv, plans.geojson, path.csv, navigate_log.csv, "
+                  "summary.json, navigate.png")
+      ->required();
+  cmd->add_flag("-f,--force", o->force, "Replace existing output files");
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace fieldlidar::app

@@ -1,0 +1,24 @@
+#pragma once
+// The files of one navigate run: plans (CSV, GeoJSON), the log, the summary and the picture.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fieldlidar/loops/navigate.hpp"
+
+namespace fieldlidar::app {
+
+/// The files a run writes into its folder.
+std::vector<std::filesystem::path> navigate_files(const std::filesystem::path& dir);
+
+/// summary.json's content (outcome, reason, lengths, ratio, impassable frames, replans, ...).
+nlohmann::json navigate_summary(const loops::NavigateResult& r);
+
+/// Writes every file of navigate_files(dir) (the folder exists; check_writable done).
+void write_navigate_run(const std::filesystem::path& dir, const loops::NavigateResult& r,
+                        const nlohmann::json& extra, const std::string& title, bool force);
+
+}  // namespace fieldlidar::app

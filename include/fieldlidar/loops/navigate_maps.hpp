@@ -1,0 +1,54 @@
+#pragma once
+/// \file The maps of the navigate loop: the truth as the planner reads it, the fused map cut to
+/// the operating area, and footprints against either.
+
+#include <vector>
+
+#include "fieldlidar/core/grid2d.hpp"
+#include "fieldlidar/planning/pose2.hpp"
+#include "fieldlidar/terrain/terrain_map.hpp"
+#include "fieldlidar/terrain/traversability.hpp"
+
+namespace fieldlidar::loops {
+
+/// The terrain truth (Scene::terrain_truth layers "passable", "slope_deg") as a planner map:
+/// traversability tau = 1 - weight_slope * slope / max_slope on passable cells, 0 on the others
+/// (the map's own formula without roughness, which the truth does not hold).
+Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityConfig& layers);
+
+/// The fused map's traversability, impassable and points layers on `area` (cells the fused map has
+/// not seen stay unknown: NaN tau, 0 points). A cell with at least `seen_no_ground_points` returns
+/// behind it, its 8 neighbours seen too, but no traversability and no ground plane (elevation) is
+/// marked impassable: it was seen well and holds no ground
+/// (ground too steep for the ground segmentation, such as a hill's flank, or a wall); 0 leaves such
+/// cells unknown.
+///
+/// Around the sensor, within `blind_radius_m` (where its lowest beam cannot reach the ground:
+/// mounting height / tan(-lowest elevation)), no return can be ground: a cell there with
+/// `blind_points` returns and no ground plane is impassable too (the top of a rock beside the
+/// robot at the start, which the map cannot call an obstacle without the ground under it).
+Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
+                 int seen_no_ground_points = 0, const Eigen::Vector2d& sensor_xy_m = {},
+                 double blind_radius_m = 0.0, int blind_points = 3);
+
+/// Cells never seen (no return) between inner_m and outer_m from the sensor are shadows: ground
+/// the sensor would have seen were it not hidden (behind a rock, inside a ditch or pit). They get
+/// tau `shadow_tau` (known, costlier) instead of the optimism of unknown cells, so plans near the
+/// robot prefer ground it has seen; cells farther away stay unknown.
+void cost_shadows(Grid2D& grid, const Eigen::Vector2d& sensor_xy_m, double inner_m, double outer_m,
+                  float shadow_tau);
+
+/// Known-impassable cells of a planner grid (impassable flag, or known tau <= 0).
+std::vector<std::uint8_t> known_blocked(const Grid2D& grid);
+
+/// Linear indices of the cells the robot's exact rectangle (half sizes, m) at `pose` overlaps;
+/// -1 for a part off the grid.
+std::vector<long> footprint_cells(const GridGeometry& geometry, const planning::Pose2& pose,
+                                  const terrain::RobotConfig& robot);
+
+/// Marks the cells under the robot at `pose` (its rectangle grown by `grow_m`) as known passable
+/// at tau >= 0.5: the robot stands there, so the planner may start there.
+void clear_under_robot(Grid2D& grid, const planning::Pose2& pose, const terrain::RobotConfig& robot,
+                       double grow_m);
+
+}  // namespace fieldlidar::loops

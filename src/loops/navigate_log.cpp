@@ -1,0 +1,57 @@
+// Names and the CSV log of the navigate loop.
+
+#include <fmt/core.h>
+
+#include "fieldlidar/loops/navigate.hpp"
+
+namespace fieldlidar::loops {
+
+planning::PlannerConfig navigate_planner_config() {
+  planning::PlannerConfig c;
+  c.map.unknown_tau = 1.0;
+  return c;
+}
+
+const char* to_string(NavigateOutcome outcome) {
+  switch (outcome) {
+    case NavigateOutcome::kArrived:
+      return "arrived";
+    case NavigateOutcome::kUnreachable:
+      return "unreachable";
+    case NavigateOutcome::kFailed:
+      return "failed";
+  }
+  return "?";
+}
+
+const char* to_string(NavigateState state) {
+  switch (state) {
+    case NavigateState::kPlanning:
+      return "planning";
+    case NavigateState::kDriving:
+      return "driving";
+    case NavigateState::kSafetyStop:
+      return "safety_stop";
+    case NavigateState::kArrived:
+      return "arrived";
+    case NavigateState::kUnreachable:
+      return "unreachable";
+    case NavigateState::kFailed:
+      return "failed";
+  }
+  return "?";
+}
+
+std::string navigate_log_csv(const std::vector<NavigateLogRow>& rows) {
+  std::string s =
+      "t_s,x_m,y_m,yaw_rad,v_m_s,yaw_rate_rad_s,planned_length_m,cell_ix,cell_iy,"
+      "cell_passable_truth,footprint_on_impassable,state,replans\n";
+  for (const auto& r : rows)
+    s += fmt::format("{:.2f},{:.4f},{:.4f},{:.5f},{:.3f},{:.4f},{:.2f},{},{},{},{},{},{}\n", r.t_s,
+                     r.x_m, r.y_m, r.yaw_rad, r.v_m_s, r.yaw_rate_rad_s, r.planned_length_m,
+                     r.cell_ix, r.cell_iy, r.cell_passable, int(r.footprint_on_impassable),
+                     to_string(r.state), r.replans);
+  return s;
+}
+
+}  // namespace fieldlidar::loops

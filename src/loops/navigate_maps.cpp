@@ -1,0 +1,117 @@
+// The navigate loop's maps: the truth read as a planner map, the fused map on the operating area,
+// footprints on either.
+
+#include "fieldlidar/loops/navigate_maps.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "fieldlidar/planning/planning_map.hpp"
+
+namespace fieldlidar::loops {
+
+namespace L = terrain::layer;
+
+Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityConfig& layers) {
+  Grid2D out(truth.geometry());
+  auto tau = out.add_layer(L::kTraversability, 0.f);
+  const auto passable = truth.layer("passable");
+  const auto slope = truth.layer("slope_deg");
+  for (std::size_t i = 0; i < tau.size(); ++i)
+    if (passable[i] > 0.5f)
+      tau[i] = float(
+          std::clamp(1.0 - layers.weight_slope * slope[i] / layers.robot.max_slope_deg, 0.01, 1.0));
+  return out;
+}
+
+Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
+                 int seen_no_ground_points, const Eigen::Vector2d& sensor_xy_m,
+                 double blind_radius_m, int blind_points) {
+  Grid2D out(area);
+  auto tau = out.add_layer(L::kTraversability, NAN);
+  auto imp = out.add_layer(L::kImpassable, NAN);
+  auto pts = out.add_layer(L::kPoints, 0.f);
+  const Grid2D global = map.global_map();
+  if (global.geometry().cell_count() == 0) return out;
+  const auto gtau = global.layer(L::kTraversability);
+  const auto gimp = global.layer(L::kImpassable);
+  const auto gpts = global.layer(L::kPoints);
+  const auto gelev = global.layer(L::kElevation);
+  const GridGeometry& g = global.geometry();
+  std::vector<std::uint8_t> ground(area.cell_count(), 0);
+  for (int iy = 0; iy < area.height; ++iy)
+    for (int ix = 0; ix < area.width; ++ix) {
+      const auto c = g.cell_of(area.cell_center(ix, iy));
+      if (!c) continue;
+      const std::size_t j = g.linear_index(c->x(), c->y()), i = area.linear_index(ix, iy);
+      tau[i] = gtau[j];
+      imp[i] = gimp[j];
+      pts[i] = gpts[j];
+      ground[i] = std::isfinite(gelev[j]);
+      if (!ground[i] && !std::isfinite(tau[i]) && pts[i] >= float(blind_points) &&
+          (area.cell_center(ix, iy) - sensor_xy_m).norm() < blind_radius_m)
+        imp[i] = 1.f;
+    }
+  if (seen_no_ground_points <= 0) return out;
+  // Seen well, its whole 3 x 3 window seen, and no ground plane (a cell left unknown by the map's
+  // full-window rule has one: its elevation): impassable.
+  std::vector<std::size_t> no_ground;
+  for (int iy = 1; iy + 1 < area.height; ++iy)
+    for (int ix = 1; ix + 1 < area.width; ++ix) {
+      const std::size_t i = area.linear_index(ix, iy);
+      if (std::isfinite(tau[i]) || ground[i] || pts[i] < float(seen_no_ground_points)) continue;
+      bool window_seen = true;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          window_seen = window_seen && pts[area.linear_index(ix + dx, iy + dy)] > 0.f;
+      if (window_seen) no_ground.push_back(i);
+    }
+  for (std::size_t i : no_ground) imp[i] = 1.f;
+  return out;
+}
+
+void cost_shadows(Grid2D& grid, const Eigen::Vector2d& sensor_xy_m, double inner_m, double outer_m,
+                  float shadow_tau) {
+  const GridGeometry& g = grid.geometry();
+  auto tau = grid.layer(L::kTraversability);
+  auto pts = grid.layer(L::kPoints);
+  for (int iy = 0; iy < g.height; ++iy)
+    for (int ix = 0; ix < g.width; ++ix) {
+      const std::size_t i = g.linear_index(ix, iy);
+      const double d = (g.cell_center(ix, iy) - sensor_xy_m).norm();
+      if (d <= inner_m || d >= outer_m || pts[i] > 0.f) continue;
+      tau[i] = shadow_tau;
+      pts[i] = 1.f;
+    }
+}
+
+std::vector<std::uint8_t> known_blocked(const Grid2D& grid) {
+  const auto tau = grid.layer(L::kTraversability);
+  const bool has_imp = grid.has_layer(L::kImpassable);
+  std::vector<std::uint8_t> out(tau.size(), 0);
+  for (std::size_t i = 0; i < tau.size(); ++i)
+    out[i] = (has_imp && grid.layer(L::kImpassable)[i] > 0.5f) ||
+             (std::isfinite(tau[i]) && tau[i] <= 0.0f);
+  return out;
+}
+
+std::vector<long> footprint_cells(const GridGeometry& geometry, const planning::Pose2& pose,
+                                  const terrain::RobotConfig& robot) {
+  return planning::rectangle_cells(geometry, pose, 0.5 * robot.length_m, 0.5 * robot.width_m);
+}
+
+void clear_under_robot(Grid2D& grid, const planning::Pose2& pose, const terrain::RobotConfig& robot,
+                       double grow_m) {
+  auto tau = grid.layer(L::kTraversability);
+  const bool has_imp = grid.has_layer(L::kImpassable), has_pts = grid.has_layer(L::kPoints);
+  for (long c : planning::rectangle_cells(grid.geometry(), pose, 0.5 * robot.length_m + grow_m,
+                                          0.5 * robot.width_m + grow_m)) {
+    if (c < 0) continue;
+    const std::size_t i = std::size_t(c);
+    tau[i] = std::isfinite(tau[i]) ? std::max(tau[i], 0.5f) : 0.5f;
+    if (has_imp) grid.layer(L::kImpassable)[i] = 0.f;
+    if (has_pts) grid.layer(L::kPoints)[i] = std::max(grid.layer(L::kPoints)[i], 1.f);
+  }
+}
+
+}  // namespace fieldlidar::loops

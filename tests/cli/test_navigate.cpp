@@ -1,0 +1,56 @@
+// End-to-end: fieldlidar navigate on a short drive of the simulated terrain (seed 0): the files,
+// the summary's outcome and figures, and no output replaced without --force.
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_cli.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), {}};
+}
+
+TEST(CliNavigate, ShortDriveWritesItsFilesAndKeepsThem) {
+  const auto dir = temp_dir("cli_navigate");
+  const auto out = dir / "nav";
+  const std::string args =
+      "navigate --scene terrain --seed 0 --start 3,20,0 --goal 9,20,0 --out " + quoted(out);
+  const auto r = run_cli(args);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* n : {"plans.csv", "plans.geojson", "path.csv", "navigate_log.csv",
+                        "summary.json", "navigate.png"})
+    EXPECT_TRUE(fs::exists(out / n)) << n;
+  const auto j = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(j["outcome"], "arrived");
+  EXPECT_EQ(j["frames_on_impassable"], 0);
+  EXPECT_LE(j["length_ratio"].get<double>(), 1.15);
+  EXPECT_EQ(j["truth_plan_status"], "success");
+  const std::string log = slurp(out / "navigate_log.csv");
+  EXPECT_EQ(log.rfind("t_s,x_m,y_m,yaw_rad,", 0), 0u);
+  EXPECT_NE(log.find(",arrived,"), std::string::npos);
+  const auto g = nlohmann::json::parse(slurp(out / "plans.geojson"));
+  EXPECT_EQ(g["type"], "FeatureCollection");
+
+  const auto again = run_cli(args);
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.output.find("--force"), std::string::npos) << again.output;
+  EXPECT_EQ(run_cli(args + " --force").exit_code, 0);
+
+  const auto help = run_cli("navigate --help");
+  EXPECT_NE(help.output.find("(m, m, rad"), std::string::npos) << help.output;
+}
+
+}  // namespace
+}  // namespace fieldlidar::test
