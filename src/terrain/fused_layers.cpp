@@ -2,6 +2,7 @@
 /// ground plane (slope, 2D obstacle), the step over the window and the cell's roughness about the
 /// plane, the obstacle evidence, then tau.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -60,6 +61,18 @@ bool window_seen(const CellStore& store, int ix, int iy, int half, const FusionC
   return true;
 }
 
+/// How far the top of a cell's ground (`top`, about the window's plane) stands above its
+/// neighbours on both sides of it, along the better of the four lines through it (0 when no line
+/// has both neighbours): a rock or mound the ground segmentation kept as ground, which a step
+/// (higher on one side only) or a slope (removed by the plane) is not.
+double bump_height(const std::array<double, 9>& ring, double top) {
+  double bump = 0;
+  for (const auto& [a, b] : {std::pair{3, 5}, {1, 7}, {0, 8}, {2, 6}})
+    if (std::isfinite(ring[a]) && std::isfinite(ring[b]))
+      bump = std::max(bump, top - std::max(ring[a], ring[b]));
+  return bump;
+}
+
 }  // namespace
 
 void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig& config) {
@@ -104,8 +117,10 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
       c.robot.max_slope_deg - config.slope_margin_deg;
 
   // Step over the window about the window's plane; roughness of the cell's own returns.
-  double lo = 0, hi = 0, rough = 0;
+  double lo = 0, hi = 0, rough = 0, top = 0;
   bool first = true;
+  std::array<double, 9> ring;  // offsets of the 8 neighbours' mean ground (NaN: none)
+  ring.fill(std::numeric_limits<double>::quiet_NaN());
   for (int dy = -half; dy <= half; ++dy)
     for (int dx = -half; dx <= half; ++dx) {
       const FusedCell* q = store.find(ix + dx, iy + dy);
@@ -117,8 +132,20 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
       lo = first ? d - sd : std::min(lo, d - sd);
       hi = first ? d + sd : std::max(hi, d + sd);
       first = false;
-      if (dx == 0 && dy == 0) rough = std::sqrt(var + d * d);
+      if (dx == 0 && dy == 0)
+        rough = std::sqrt(var + d * d), top = d + config.bump_sigmas * std::sqrt(var);
+      if (std::abs(dx) <= 1 && std::abs(dy) <= 1) ring[std::size_t((dy + 1) * 3 + dx + 1)] = d;
     }
+  if (std::isfinite(cell->ground_top[1])) {
+    // The cell's second-highest ground return, its position in the cell unknown: the plane's
+    // rise over half the cell's diagonal is taken off.
+    const double run = 0.5 * std::sqrt(2.0) * c.cell_m;
+    const double tan_slope = std::sqrt(std::max(0.0, 1.0 - window_normal.z() * window_normal.z())) /
+                             std::max(0.05, window_normal.z());
+    const Eigen::Vector3d p(0.0, 0.0, cell->ground_top[1]);
+    top = std::max(top, window_normal.dot(p - centroid) - run * tan_slope * window_normal.z());
+  }
+  const double bump = config.bump_obstacles ? bump_height(ring, top) : 0.0;
   const double step = hi - lo;
   const double plane_z = centroid.z() - (window_normal.x() * (0.0 - centroid.x()) +
                                          window_normal.y() * (0.0 - centroid.y())) /
@@ -134,7 +161,8 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
   L[kObst2d] = too_steep ? 1.0f : 0.0f;
   L[kProj] = own_obstacle ? 1.0f : 0.0f;
   L[kElev] = float(plane_z + cell->z_ref);
-  const bool blocked = too_steep || step > c.robot.max_step_m || obstacle;
+  const bool bumped = bump > c.robot.min_obstacle_height_m - config.bump_margin_m;
+  const bool blocked = too_steep || step > c.robot.max_step_m || obstacle || bumped;
   if (!blocked && config.passable_needs_full_window && !window_seen(store, ix, iy, half, config))
     return;  // part of the robot's footprint unseen (a shadow: behind a rock, inside a pit)
   L[kImpass] = blocked ? 1.0f : 0.0f;

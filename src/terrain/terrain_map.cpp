@@ -128,6 +128,7 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
     FusedCell& cell = *s.cell;
     if (std::isnan(cell.z_ref)) cell.z_ref = float(p.z());
     cell.ground.add({p.x() - (ix + 0.5) * cm, p.y() - (iy + 0.5) * cm, p.z() - cell.z_ref});
+    FusedCell::add_top(s.ground_top, float(p.z() - cell.z_ref));
   }
   // Obstacle returns: between min_obstacle_height and clearance above the cell's ground (this
   // scan's lowest ground return there, else the map's elevation).
@@ -169,6 +170,8 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
       FusedCell& cell = *s.cell;
       cell.returns += s.returns;
       if (s.ground > 0) cell.refresh_moments();
+      if (s.raised == 0)
+        for (float z : s.ground_top) cell.add_ground_top(z);
       const float before = cell.log_odds;
       if (int(s.raised) >= c.min_obstacle_points) {
         cell.log_odds = std::min(f.max_log_odds, cell.log_odds + f.hit_log_odds);

@@ -101,3 +101,31 @@ TEST(TerrainFusionCells, BadInputGivesUnknownOrAClearError) {
   absurd.layers.robot.max_slope_deg = 90;
   EXPECT_THROW(TerrainMap{absurd}, Error);
 }
+
+// A low rock the ground segmentation keeps as ground (0.19 m: above the robot's 0.15 m
+// min_obstacle_height, below its 0.20 m max_step) stands above its neighbours on both sides: an
+// obstacle. A 0.17 m terrace step, higher on one side only, is a step the robot takes.
+TEST(TerrainFusionCells, LowRockKeptAsGroundBlocksAStepDoesNot) {
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::uint8_t> ground;
+  for (double x = 0.025; x < 10; x += 0.05)
+    for (double y = 0.025; y < 10; y += 0.05) {
+      double z = x > 7.0 ? 0.17 : 0.0;  // the terrace
+      const double r = std::hypot(x - 3.25, y - 5.25);
+      if (r < 0.25) z = 0.19 * std::sqrt(1 - r * r / 0.0625);  // the rock: a 0.25 m half-ellipsoid
+      pts.emplace_back(x, y, z);
+      ground.push_back(1);
+    }
+  TerrainMap map;
+  map.add_points(pts, ground, {5, 5, 1.2});
+  const Grid2D m = map.global_map();
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {3.25, 5.25}), 1.0f);
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {3.25, 6.25}), 0.0f);  // two cells off the rock
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {6.75, 5.25}), 0.0f);  // below the terrace's edge
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {7.25, 5.25}), 0.0f);  // on it
+  FusionConfig no_bump;
+  no_bump.bump_obstacles = false;
+  TerrainMap without(no_bump);
+  without.add_points(pts, ground, {5, 5, 1.2});
+  EXPECT_EQ(*without.global_map().value_at(layer::kImpassable, {3.25, 5.25}), 0.0f);
+}

@@ -48,6 +48,17 @@ struct FusionConfig {
   /// An obstacle's 4 neighbour cells are impassable too (its footprint is larger than the
   /// returns on it show: the low rim of a rock, the far side of a bush).
   bool obstacle_halo = true;
+  /// A low rock or mound the ground segmentation kept as ground is an obstacle: a cell whose
+  /// ground top stands above both neighbours on a line through it (the better of the four lines;
+  /// a step, higher on one side only, is judged by max_step instead) by more than the robot's
+  /// min_obstacle_height less bump_margin_m. The ground top, about the voxel window's plane, is
+  /// the larger of the cell's mean plus bump_sigmas standard deviations and its second-highest
+  /// ground return (from scans that saw nothing raised in the cell, less the plane's rise over
+  /// half the cell's diagonal); the neighbours are their mean ground.
+  bool bump_obstacles = true;
+  double bump_sigmas = 2.0;
+  /// The measured top is low by the rock's rounded cap and the neighbours' share of it.
+  double bump_margin_m = 0.03;
   /// The planes give the mean slope over a cell or window, the robot tips on the steepest part:
   /// ground steeper than max_slope_deg - slope_margin_deg is a 2D obstacle.
   double slope_margin_deg = 3.0;
