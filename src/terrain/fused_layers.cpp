@@ -83,7 +83,7 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
   L.fill(kNaN);
   const bool own_obstacle = cell->log_odds > 0.0f;
   bool obstacle = own_obstacle;
-  if (config.obstacle_halo)  // an obstacle's rim: its 4 neighbours block too
+  if (config.obstacle_halo && half > 0)  // an obstacle's rim: its 4 neighbours block too
     for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
       const FusedCell* q = store.find(ix + dx, iy + dy);
       obstacle = obstacle || (q && q->log_odds > 0.0f);
