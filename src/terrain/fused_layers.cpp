@@ -51,12 +51,48 @@ double edge_slope_deg(const CellStore& store, int ix, int iy, const FusionConfig
   return steepest;
 }
 
-/// Every cell of the voxel window holds ground returns of its own or obstacle evidence.
+bool seen(const FusedCell* q, const FusionConfig& config) {
+  return q && (q->ground.n >= config.min_ground_points || q->log_odds > 0.0f);
+}
+bool seen_ground(const FusedCell* q, const FusionConfig& config) {
+  return q && q->ground.n >= config.min_ground_points && q->log_odds <= 0.0f;
+}
+
+/// An unseen cell (dx, dy) of the window around (ix, iy) bridged by the ground model: the two
+/// cells either side of it on a line, both inside the window, are seen ground within max_step of
+/// each other, and none of its 8 neighbours holds obstacle evidence (a shadow behind a rock stays
+/// unseen). Inside the window only, so the cells it reads are the ones that re-derive this cell.
+bool bridged(const CellStore& store, int ix, int iy, int dx, int dy, int half,
+             const FusionConfig& config) {
+  for (int ny = -1; ny <= 1; ++ny)
+    for (int nx = -1; nx <= 1; ++nx) {
+      const bool inside = std::abs(dx + nx) <= half && std::abs(dy + ny) <= half;
+      const FusedCell* q = inside ? store.find(ix + dx + nx, iy + dy + ny) : nullptr;
+      if (q && q->log_odds > 0.0f) return false;
+    }
+  for (const auto& [ax, ay] : {std::pair{1, 0}, {0, 1}, {1, 1}, {1, -1}}) {
+    const int x1 = dx + ax, y1 = dy + ay, x2 = dx - ax, y2 = dy - ay;
+    if (std::max({std::abs(x1), std::abs(y1), std::abs(x2), std::abs(y2)}) > half) continue;
+    const FusedCell* a = store.find(ix + x1, iy + y1);
+    const FusedCell* b = store.find(ix + x2, iy + y2);
+    if (!seen_ground(a, config) || !seen_ground(b, config) ||
+        a->ground.n + b->ground.n > config.bridge_max_ground_points)
+      continue;
+    const double za = a->mean.z() + a->z_ref, zb = b->mean.z() + b->z_ref;
+    if (std::abs(za - zb) <= config.layers.robot.max_step_m) return true;
+  }
+  return false;
+}
+
+/// The voxel window (the robot's footprint) is seen: every cell holds ground returns of its own
+/// or obstacle evidence, but for at most max_bridged_cells bridged by the ground model.
 bool window_seen(const CellStore& store, int ix, int iy, int half, const FusionConfig& config) {
+  int bridges = 0;
   for (int dy = -half; dy <= half; ++dy)
     for (int dx = -half; dx <= half; ++dx) {
-      const FusedCell* q = store.find(ix + dx, iy + dy);
-      if (!q || (q->ground.n < config.min_ground_points && q->log_odds <= 0.0f)) return false;
+      if (seen(store.find(ix + dx, iy + dy), config)) continue;
+      if (++bridges > config.max_bridged_cells || !bridged(store, ix, iy, dx, dy, half, config))
+        return false;
     }
   return true;
 }

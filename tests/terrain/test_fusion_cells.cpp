@@ -129,3 +129,42 @@ TEST(TerrainFusionCells, LowRockKeptAsGroundBlocksAStepDoesNot) {
   without.add_points(pts, ground, {5, 5, 1.2});
   EXPECT_EQ(*without.global_map().value_at(layer::kImpassable, {3.25, 5.25}), 0.0f);
 }
+
+// A cell no return hit, between seen flat ground (sparse: few returns each side), is bridged by
+// the ground model: its neighbours are passable rather than unknown. The same gap beside many
+// returns (a shadow) or beside an obstacle is not bridged. The gap itself stays unknown.
+TEST(TerrainFusionCells, SmallGapBridgedButNotAShadow) {
+  const auto flat = [](double spacing, std::vector<Eigen::Vector3d>& pts,
+                       std::vector<std::uint8_t>& ground) {
+    for (double x = spacing / 2; x < 6; x += spacing)
+      for (double y = spacing / 2; y < 6; y += spacing) {
+        if (x > 3.0 && x < 3.5 && y > 3.0 && y < 3.5) continue;  // the gap: cell (6, 6)
+        pts.emplace_back(x, y, 0.0);
+        ground.push_back(1);
+      }
+  };
+  const Eigen::Vector2d beside(2.75, 3.25), gap(3.25, 3.25);
+  std::vector<Eigen::Vector3d> sparse, dense;
+  std::vector<std::uint8_t> gs, gd;
+  flat(0.125, sparse, gs);  // 16 returns a cell
+  flat(0.05, dense, gd);    // 100 a cell
+  FusionConfig no_bridge;
+  no_bridge.max_bridged_cells = 0;
+  TerrainMap a, b, strict(no_bridge);
+  a.add_points(sparse, gs, {3, 3, 1.2});
+  strict.add_points(sparse, gs, {3, 3, 1.2});
+  b.add_points(dense, gd, {3, 3, 1.2});
+  EXPECT_EQ(*a.global_map().value_at(layer::kImpassable, beside), 0.0f);
+  EXPECT_TRUE(std::isnan(*a.global_map().value_at(layer::kImpassable, gap)));
+  EXPECT_TRUE(std::isnan(*strict.global_map().value_at(layer::kImpassable, beside)));
+  EXPECT_TRUE(std::isnan(*b.global_map().value_at(layer::kImpassable, beside)));
+  // An obstacle next to the gap: no bridge (and the obstacle's halo blocks its 4 neighbours).
+  std::vector<Eigen::Vector3d> rock = sparse;
+  std::vector<std::uint8_t> gr = gs;
+  for (int k = 0; k < 6; ++k) rock.emplace_back(3.6 + 0.05 * k, 3.25, 0.5), gr.push_back(0);
+  TerrainMap c;
+  c.add_points(rock, gr, {3, 3, 1.2});
+  const Eigen::Vector2d below(3.25, 2.75);  // the gap and the rock's cell are in its window
+  EXPECT_EQ(*a.global_map().value_at(layer::kImpassable, below), 0.0f);
+  EXPECT_TRUE(std::isnan(*c.global_map().value_at(layer::kImpassable, below)));
+}

@@ -51,6 +51,15 @@ struct FusionConfig {
   /// A cell is called passable only when every cell of its voxel window (the robot's footprint)
   /// was seen; else it stays unknown (a shadow behind a rock or inside a pit is no free ground).
   bool passable_needs_full_window = true;
+  /// But for up to this many cells of the window that no return hit, each bridged by the ground
+  /// model: the two cells either side of it on a line inside the window are seen ground within
+  /// max_step of each other, and no cell of the window next to it holds obstacle evidence (the
+  /// gaps between a sweep's rings at range; the bridged cell itself stays unknown).
+  int max_bridged_cells = 2;
+  /// A gap is bridged only while the two cells either side hold at most this many ground returns
+  /// together: a cell still unseen beside well-seen ones is a shadow (a cliff's foot, behind a
+  /// rim), not the space between two rings.
+  int bridge_max_ground_points = 60;
   /// An obstacle's 4 neighbour cells are impassable too (its footprint is larger than the
   /// returns on it show: the low rim of a rock, the far side of a bush), when the cells are
   /// smaller than the robot (a voxel window of more than one cell): a cell larger than the robot
