@@ -168,3 +168,27 @@ TEST(TerrainFusionCells, SmallGapBridgedButNotAShadow) {
   EXPECT_EQ(*a.global_map().value_at(layer::kImpassable, below), 0.0f);
   EXPECT_TRUE(std::isnan(*c.global_map().value_at(layer::kImpassable, below)));
 }
+
+// A survey through the fused cells: flat ground with a lake (water returns, e.g. LAS class 9) is
+// passable on land and impassable on the water, which is flat too; flags that do not match the
+// points are a clear error.
+TEST(TerrainFusionCells, SurveyWaterIsImpassable) {
+  PointCloud cloud;
+  std::vector<std::uint8_t> water;
+  for (double x = 0.1; x < 12; x += 0.2)
+    for (double y = 0.1; y < 12; y += 0.2) {
+      Point p;
+      p.x = float(x), p.y = float(y), p.z = 0.0f;
+      cloud.push_back(p);
+      water.push_back(x > 6.0);
+    }
+  FusionConfig config;
+  config.layers.cell_m = 1.0;
+  const Grid2D m = map_area_fused(cloud, config, water);
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {3.5, 6.5}), 0.0f);
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {9.5, 6.5}), 1.0f);
+  EXPECT_EQ(*m.value_at(layer::kTraversability, {9.5, 6.5}), 0.0f);
+  EXPECT_EQ(*map_area_fused(cloud, config).value_at(layer::kImpassable, {9.5, 6.5}), 0.0f);
+  water.pop_back();
+  EXPECT_THROW(map_area_fused(cloud, config, water), Error);
+}
