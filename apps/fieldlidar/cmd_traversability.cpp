@@ -4,6 +4,7 @@
 // per layer, a top-down picture and a summary.
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -219,7 +220,19 @@ void run(const TraversabilityOptions& o) {
           fmt::format("{}: not one sensor sweep ({}); mapped as a survey of the whole area (give "
                       "--sensor for a sweep)",
                       o.input, check.reason));
-      map = terrain::map_area(cloud, cfg);
+      // A LAS file's classes say where the water is (class 9).
+      std::vector<std::uint8_t> water;
+      std::string lower = ext;
+      std::transform(lower.begin(), lower.end(), lower.begin(),
+                     [](unsigned char ch) { return char(std::tolower(ch)); });
+      if ((lower == ".las" || lower == ".laz") && cloud.has_labels()) {
+        water.resize(cloud.size());
+        for (std::size_t i = 0; i < cloud.size(); ++i) water[i] = cloud.labels[i] == 9;
+        j["water_points"] = std::count(water.begin(), water.end(), std::uint8_t(1));
+      }
+      terrain::FusionConfig fusion;
+      fusion.layers = cfg;
+      map = terrain::map_area_fused(cloud, fusion, water);
       what = "survey";
     }
     j["input"] = sweep ? "sweep" : "survey";

@@ -69,12 +69,23 @@ struct FusedCell {
   float log_odds = 0.0f;                                  ///< obstacle evidence
   float obstacle_top_m = 0.0f;  ///< highest obstacle return above the ground while it holds
   std::uint32_t returns = 0;    ///< every return that fell in the cell
+  /// The two highest ground returns (z - z_ref): the second is the cell's ground top, one stray
+  /// return being no rock.
+  std::array<float, 2> ground_top = {-std::numeric_limits<float>::infinity(),
+                                     -std::numeric_limits<float>::infinity()};
   std::array<float, kLayerCount> layers;
   /// ground.mean() and ground.covariance(), refreshed when ground returns are added.
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
 
   FusedCell() { layers.fill(std::numeric_limits<float>::quiet_NaN()); }
+  void add_ground_top(float dz) { add_top(ground_top, dz); }
+  static void add_top(std::array<float, 2>& top, float dz) {
+    if (dz > top[0])
+      top = {dz, top[0]};
+    else if (dz > top[1])
+      top[1] = dz;
+  }
   void refresh_moments() {
     mean = ground.mean();
     covariance = ground.covariance();
@@ -126,7 +137,11 @@ struct ScanCell {
   FusedCell* cell = nullptr;
   std::uint32_t returns = 0, ground = 0, raised = 0;
   float low_ground = std::numeric_limits<float>::infinity();
-  float top_m = 0.0f;         ///< highest obstacle return above the ground
+  float top_m = 0.0f;  ///< highest obstacle return above the ground
+  /// This scan's two highest ground returns (z - the cell's z_ref), kept as the cell's when the
+  /// scan saw nothing raised there (a walker's feet are no rock).
+  std::array<float, 2> ground_top = {-std::numeric_limits<float>::infinity(),
+                                     -std::numeric_limits<float>::infinity()};
   bool seen_through = false;  ///< a ray crossed the cell's obstacle volume and ended beyond
 };
 

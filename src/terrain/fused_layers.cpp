@@ -2,6 +2,7 @@
 /// ground plane (slope, 2D obstacle), the step over the window and the cell's roughness about the
 /// plane, the obstacle evidence, then tau.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -50,14 +51,62 @@ double edge_slope_deg(const CellStore& store, int ix, int iy, const FusionConfig
   return steepest;
 }
 
-/// Every cell of the voxel window holds ground returns of its own or obstacle evidence.
+bool seen(const FusedCell* q, const FusionConfig& config) {
+  return q && (q->ground.n >= config.min_ground_points || q->log_odds > 0.0f);
+}
+bool seen_ground(const FusedCell* q, const FusionConfig& config) {
+  return q && q->ground.n >= config.min_ground_points && q->log_odds <= 0.0f;
+}
+
+/// An unseen cell (dx, dy) of the window around (ix, iy) bridged by the ground model: the two
+/// cells either side of it on a line, both inside the window, are seen ground within max_step of
+/// each other, and none of its 8 neighbours holds obstacle evidence (a shadow behind a rock stays
+/// unseen). Inside the window only, so the cells it reads are the ones that re-derive this cell.
+bool bridged(const CellStore& store, int ix, int iy, int dx, int dy, int half,
+             const FusionConfig& config) {
+  for (int ny = -1; ny <= 1; ++ny)
+    for (int nx = -1; nx <= 1; ++nx) {
+      const bool inside = std::abs(dx + nx) <= half && std::abs(dy + ny) <= half;
+      const FusedCell* q = inside ? store.find(ix + dx + nx, iy + dy + ny) : nullptr;
+      if (q && q->log_odds > 0.0f) return false;
+    }
+  for (const auto& [ax, ay] : {std::pair{1, 0}, {0, 1}, {1, 1}, {1, -1}}) {
+    const int x1 = dx + ax, y1 = dy + ay, x2 = dx - ax, y2 = dy - ay;
+    if (std::max({std::abs(x1), std::abs(y1), std::abs(x2), std::abs(y2)}) > half) continue;
+    const FusedCell* a = store.find(ix + x1, iy + y1);
+    const FusedCell* b = store.find(ix + x2, iy + y2);
+    if (!seen_ground(a, config) || !seen_ground(b, config) ||
+        a->ground.n + b->ground.n > config.bridge_max_ground_points)
+      continue;
+    const double za = a->mean.z() + a->z_ref, zb = b->mean.z() + b->z_ref;
+    if (std::abs(za - zb) <= config.layers.robot.max_step_m) return true;
+  }
+  return false;
+}
+
+/// The voxel window (the robot's footprint) is seen: every cell holds ground returns of its own
+/// or obstacle evidence, but for at most max_bridged_cells bridged by the ground model.
 bool window_seen(const CellStore& store, int ix, int iy, int half, const FusionConfig& config) {
+  int bridges = 0;
   for (int dy = -half; dy <= half; ++dy)
     for (int dx = -half; dx <= half; ++dx) {
-      const FusedCell* q = store.find(ix + dx, iy + dy);
-      if (!q || (q->ground.n < config.min_ground_points && q->log_odds <= 0.0f)) return false;
+      if (seen(store.find(ix + dx, iy + dy), config)) continue;
+      if (++bridges > config.max_bridged_cells || !bridged(store, ix, iy, dx, dy, half, config))
+        return false;
     }
   return true;
+}
+
+/// How far the top of a cell's ground (`top`, about the window's plane) stands above its
+/// neighbours on both sides of it, along the better of the four lines through it (0 when no line
+/// has both neighbours): a rock or mound the ground segmentation kept as ground, which a step
+/// (higher on one side only) or a slope (removed by the plane) is not.
+double bump_height(const std::array<double, 9>& ring, double top) {
+  double bump = 0;
+  for (const auto& [a, b] : {std::pair{3, 5}, {1, 7}, {0, 8}, {2, 6}})
+    if (std::isfinite(ring[a]) && std::isfinite(ring[b]))
+      bump = std::max(bump, top - std::max(ring[a], ring[b]));
+  return bump;
 }
 
 }  // namespace
@@ -70,7 +119,7 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
   L.fill(kNaN);
   const bool own_obstacle = cell->log_odds > 0.0f;
   bool obstacle = own_obstacle;
-  if (config.obstacle_halo)  // an obstacle's rim: its 4 neighbours block too
+  if (config.obstacle_halo && half > 0)  // an obstacle's rim: its 4 neighbours block too
     for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
       const FusedCell* q = store.find(ix + dx, iy + dy);
       obstacle = obstacle || (q && q->log_odds > 0.0f);
@@ -104,8 +153,10 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
       c.robot.max_slope_deg - config.slope_margin_deg;
 
   // Step over the window about the window's plane; roughness of the cell's own returns.
-  double lo = 0, hi = 0, rough = 0;
+  double lo = 0, hi = 0, rough = 0, top = 0;
   bool first = true;
+  std::array<double, 9> ring;  // offsets of the 8 neighbours' mean ground (NaN: none)
+  ring.fill(std::numeric_limits<double>::quiet_NaN());
   for (int dy = -half; dy <= half; ++dy)
     for (int dx = -half; dx <= half; ++dx) {
       const FusedCell* q = store.find(ix + dx, iy + dy);
@@ -117,8 +168,20 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
       lo = first ? d - sd : std::min(lo, d - sd);
       hi = first ? d + sd : std::max(hi, d + sd);
       first = false;
-      if (dx == 0 && dy == 0) rough = std::sqrt(var + d * d);
+      if (dx == 0 && dy == 0)
+        rough = std::sqrt(var + d * d), top = d + config.bump_sigmas * std::sqrt(var);
+      if (std::abs(dx) <= 1 && std::abs(dy) <= 1) ring[std::size_t((dy + 1) * 3 + dx + 1)] = d;
     }
+  if (std::isfinite(cell->ground_top[1])) {
+    // The cell's second-highest ground return, its position in the cell unknown: the plane's
+    // rise over half the cell's diagonal is taken off.
+    const double run = 0.5 * std::sqrt(2.0) * c.cell_m;
+    const double tan_slope = std::sqrt(std::max(0.0, 1.0 - window_normal.z() * window_normal.z())) /
+                             std::max(0.05, window_normal.z());
+    const Eigen::Vector3d p(0.0, 0.0, cell->ground_top[1]);
+    top = std::max(top, window_normal.dot(p - centroid) - run * tan_slope * window_normal.z());
+  }
+  const double bump = config.bump_obstacles ? bump_height(ring, top) : 0.0;
   const double step = hi - lo;
   const double plane_z = centroid.z() - (window_normal.x() * (0.0 - centroid.x()) +
                                          window_normal.y() * (0.0 - centroid.y())) /
@@ -134,7 +197,8 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
   L[kObst2d] = too_steep ? 1.0f : 0.0f;
   L[kProj] = own_obstacle ? 1.0f : 0.0f;
   L[kElev] = float(plane_z + cell->z_ref);
-  const bool blocked = too_steep || step > c.robot.max_step_m || obstacle;
+  const bool bumped = bump > c.robot.min_obstacle_height_m - config.bump_margin_m;
+  const bool blocked = too_steep || step > c.robot.max_step_m || obstacle || bumped;
   if (!blocked && config.passable_needs_full_window && !window_seen(store, ix, iy, half, config))
     return;  // part of the robot's footprint unseen (a shadow: behind a rock, inside a pit)
   L[kImpass] = blocked ? 1.0f : 0.0f;

@@ -40,25 +40,30 @@ Grid2D map_scan(const PointCloud& scan, const SensorModel& sensor, const Pose& T
   return build_layers(in_map.points_m, in_map.is_ground, geometry, config);
 }
 
+ScanPoints area_points(const PointCloud& cloud, const TraversabilityConfig& config) {
+  ScanPoints out;
+  if (cloud.valid_count() == 0) return out;
+  const auto g = segmentation::ground_grid(cloud, config.ground.grid);
+  out.points_m.reserve(cloud.size());
+  out.is_ground.reserve(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Point& p = cloud.points[i];
+    if (!p.is_valid()) continue;
+    out.points_m.push_back(p.xyz().cast<double>());
+    out.is_ground.push_back(g.is_ground[i]);
+  }
+  return out;
+}
+
 Grid2D map_area(const PointCloud& cloud, const TraversabilityConfig& config) {
   voxel_height_m(config);
-  std::vector<Eigen::Vector3d> pts;
-  std::vector<std::uint8_t> ground;
+  const ScanPoints area = area_points(cloud, config);
   Bounds3 b;
-  if (cloud.valid_count() > 0) {
-    const auto g = segmentation::ground_grid(cloud, config.ground.grid);
-    for (std::size_t i = 0; i < cloud.size(); ++i) {
-      const Point& p = cloud.points[i];
-      if (!p.is_valid()) continue;
-      pts.push_back(p.xyz().cast<double>());
-      ground.push_back(g.is_ground[i]);
-      b.extend(pts.back());
-    }
-  }
+  for (const auto& p : area.points_m) b.extend(p);
   const GridGeometry geometry =
       b.empty() ? GridGeometry{.resolution_m = config.cell_m}
                 : GridGeometry::covering(b.min.head<2>(), b.max.head<2>(), config.cell_m);
-  return build_layers(pts, ground, geometry, config);
+  return build_layers(area.points_m, area.is_ground, geometry, config);
 }
 
 }  // namespace fieldlidar::terrain

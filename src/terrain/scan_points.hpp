@@ -20,4 +20,8 @@ struct ScanPoints {
 ScanPoints scan_points_in_map(const PointCloud& scan, const SensorModel& sensor,
                               const Pose& T_map_lidar, const TraversabilityConfig& config);
 
+/// A whole surveyed area: grid ground segmentation (config.ground.grid), then every valid return
+/// in the cloud's own frame (relative to its origin_m). An empty cloud gives no points.
+ScanPoints area_points(const PointCloud& cloud, const TraversabilityConfig& config);
+
 }  // namespace fieldlidar::terrain

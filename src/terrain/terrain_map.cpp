@@ -128,21 +128,36 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
     FusedCell& cell = *s.cell;
     if (std::isnan(cell.z_ref)) cell.z_ref = float(p.z());
     cell.ground.add({p.x() - (ix + 0.5) * cm, p.y() - (iy + 0.5) * cm, p.z() - cell.z_ref});
+    FusedCell::add_top(s.ground_top, float(p.z() - cell.z_ref));
   }
-  // Obstacle returns: between min_obstacle_height and clearance above the cell's ground (this
-  // scan's lowest ground return there, else the map's elevation).
+  // Obstacle returns: between min_obstacle_height and clearance above the cell's ground (its
+  // plane from earlier scans under the return, else this scan's lowest ground return there, else
+  // the map's elevation).
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Eigen::Vector3d& p = pts[i];
     if (is_ground[i] || !p.allFinite()) continue;
     ScanCell& s = local_of(p);
+    const auto& known = s.cell->layers;
     double base = s.low_ground;
-    if (!std::isfinite(base)) base = s.cell->layers[detail::kElev];
+    if (f.obstacle_height_from_plane && std::isfinite(known[detail::kElev]) &&
+        known[detail::kNz] > 0.5f) {  // the cell's ground plane under the return
+      const double dx = p.x() - (cell_index(p.x(), cm) + 0.5) * cm;
+      const double dy = p.y() - (cell_index(p.y(), cm) + 0.5) * cm;
+      base = known[detail::kElev] -
+             (known[detail::kNx] * dx + known[detail::kNy] * dy) / known[detail::kNz];
+    }
+    if (!std::isfinite(base)) base = known[detail::kElev];
     if (!std::isfinite(base)) {  // the lowest ground this scan saw next to the cell
       const int x = cell_index(p.x(), cm) - lo.x(), y = cell_index(p.y(), cm) - lo.y();
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx)
           if (x + dx >= 0 && y + dy >= 0 && x + dx < w && y + dy < h)
             base = std::fmin(base, local[std::size_t(y + dy) * w + x + dx].low_ground);
+      if (!std::isfinite(base) && f.obstacle_height_from_plane)  // else the map's there
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx)
+            if (const FusedCell* q = impl_->store.find(lo.x() + x + dx, lo.y() + y + dy))
+              base = std::fmin(base, q->layers[detail::kElev]);
     }
     if (!std::isfinite(base)) continue;
     const double above = p.z() - base;
@@ -169,6 +184,8 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
       FusedCell& cell = *s.cell;
       cell.returns += s.returns;
       if (s.ground > 0) cell.refresh_moments();
+      if (s.raised == 0)
+        for (float z : s.ground_top) cell.add_ground_top(z);
       const float before = cell.log_odds;
       if (int(s.raised) >= c.min_obstacle_points) {
         cell.log_odds = std::min(f.max_log_odds, cell.log_odds + f.hit_log_odds);

@@ -101,3 +101,94 @@ TEST(TerrainFusionCells, BadInputGivesUnknownOrAClearError) {
   absurd.layers.robot.max_slope_deg = 90;
   EXPECT_THROW(TerrainMap{absurd}, Error);
 }
+
+// A low rock the ground segmentation keeps as ground (0.19 m: above the robot's 0.15 m
+// min_obstacle_height, below its 0.20 m max_step) stands above its neighbours on both sides: an
+// obstacle. A 0.17 m terrace step, higher on one side only, is a step the robot takes.
+TEST(TerrainFusionCells, LowRockKeptAsGroundBlocksAStepDoesNot) {
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::uint8_t> ground;
+  for (double x = 0.025; x < 10; x += 0.05)
+    for (double y = 0.025; y < 10; y += 0.05) {
+      double z = x > 7.0 ? 0.17 : 0.0;  // the terrace
+      const double r = std::hypot(x - 3.25, y - 5.25);
+      if (r < 0.25) z = 0.19 * std::sqrt(1 - r * r / 0.0625);  // the rock: a 0.25 m half-ellipsoid
+      pts.emplace_back(x, y, z);
+      ground.push_back(1);
+    }
+  TerrainMap map;
+  map.add_points(pts, ground, {5, 5, 1.2});
+  const Grid2D m = map.global_map();
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {3.25, 5.25}), 1.0f);
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {3.25, 6.25}), 0.0f);  // two cells off the rock
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {6.75, 5.25}), 0.0f);  // below the terrace's edge
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {7.25, 5.25}), 0.0f);  // on it
+  FusionConfig no_bump;
+  no_bump.bump_obstacles = false;
+  TerrainMap without(no_bump);
+  without.add_points(pts, ground, {5, 5, 1.2});
+  EXPECT_EQ(*without.global_map().value_at(layer::kImpassable, {3.25, 5.25}), 0.0f);
+}
+
+// A cell no return hit, between seen flat ground (sparse: few returns each side), is bridged by
+// the ground model: its neighbours are passable rather than unknown. The same gap beside many
+// returns (a shadow) or beside an obstacle is not bridged. The gap itself stays unknown.
+TEST(TerrainFusionCells, SmallGapBridgedButNotAShadow) {
+  const auto flat = [](double spacing, std::vector<Eigen::Vector3d>& pts,
+                       std::vector<std::uint8_t>& ground) {
+    for (double x = spacing / 2; x < 6; x += spacing)
+      for (double y = spacing / 2; y < 6; y += spacing) {
+        if (x > 3.0 && x < 3.5 && y > 3.0 && y < 3.5) continue;  // the gap: cell (6, 6)
+        pts.emplace_back(x, y, 0.0);
+        ground.push_back(1);
+      }
+  };
+  const Eigen::Vector2d beside(2.75, 3.25), gap(3.25, 3.25);
+  std::vector<Eigen::Vector3d> sparse, dense;
+  std::vector<std::uint8_t> gs, gd;
+  flat(0.125, sparse, gs);  // 16 returns a cell
+  flat(0.05, dense, gd);    // 100 a cell
+  FusionConfig no_bridge;
+  no_bridge.max_bridged_cells = 0;
+  TerrainMap a, b, strict(no_bridge);
+  a.add_points(sparse, gs, {3, 3, 1.2});
+  strict.add_points(sparse, gs, {3, 3, 1.2});
+  b.add_points(dense, gd, {3, 3, 1.2});
+  EXPECT_EQ(*a.global_map().value_at(layer::kImpassable, beside), 0.0f);
+  EXPECT_TRUE(std::isnan(*a.global_map().value_at(layer::kImpassable, gap)));
+  EXPECT_TRUE(std::isnan(*strict.global_map().value_at(layer::kImpassable, beside)));
+  EXPECT_TRUE(std::isnan(*b.global_map().value_at(layer::kImpassable, beside)));
+  // An obstacle next to the gap: no bridge (and the obstacle's halo blocks its 4 neighbours).
+  std::vector<Eigen::Vector3d> rock = sparse;
+  std::vector<std::uint8_t> gr = gs;
+  for (int k = 0; k < 6; ++k) rock.emplace_back(3.6 + 0.05 * k, 3.25, 0.5), gr.push_back(0);
+  TerrainMap c;
+  c.add_points(rock, gr, {3, 3, 1.2});
+  const Eigen::Vector2d below(3.25, 2.75);  // the gap and the rock's cell are in its window
+  EXPECT_EQ(*a.global_map().value_at(layer::kImpassable, below), 0.0f);
+  EXPECT_TRUE(std::isnan(*c.global_map().value_at(layer::kImpassable, below)));
+}
+
+// A survey through the fused cells: flat ground with a lake (water returns, e.g. LAS class 9) is
+// passable on land and impassable on the water, which is flat too; flags that do not match the
+// points are a clear error.
+TEST(TerrainFusionCells, SurveyWaterIsImpassable) {
+  PointCloud cloud;
+  std::vector<std::uint8_t> water;
+  for (double x = 0.1; x < 12; x += 0.2)
+    for (double y = 0.1; y < 12; y += 0.2) {
+      Point p;
+      p.x = float(x), p.y = float(y), p.z = 0.0f;
+      cloud.push_back(p);
+      water.push_back(x > 6.0);
+    }
+  FusionConfig config;
+  config.layers.cell_m = 1.0;
+  const Grid2D m = map_area_fused(cloud, config, water);
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {3.5, 6.5}), 0.0f);
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {9.5, 6.5}), 1.0f);
+  EXPECT_EQ(*m.value_at(layer::kTraversability, {9.5, 6.5}), 0.0f);
+  EXPECT_EQ(*map_area_fused(cloud, config).value_at(layer::kImpassable, {9.5, 6.5}), 0.0f);
+  water.pop_back();
+  EXPECT_THROW(map_area_fused(cloud, config, water), Error);
+}

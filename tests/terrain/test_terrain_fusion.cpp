@@ -100,18 +100,21 @@ DriveResult drive(const FusionConfig& config, std::uint64_t seed, bool walkers, 
 
 }  // namespace
 
-// Tuned on seeds 21 and 22 (the halo, the full-window rule, the slope margin were chosen on
-// them); seeds 23 and 24 held out. Measured (scans every 0.5 s): impassable recall
-// 0.967/0.987 tuned, 0.972/0.966 held out; passable precision 0.990-0.997; coverage 0.80-0.83.
-// Slope RMSE is on the cells both the truth and the map call passable (the slopes a planner uses).
+// Tuned on seeds 21 and 22 (the halo, the full-window rule, the slope margin, the bump margin,
+// the gap bridging's cap were chosen on them); seeds 23, 24 and 25 held out. Measured (scans every
+// 0.5 s): impassable recall 0.972/0.990 tuned, 0.972/0.974/0.976 held out (0.967/0.987,
+// 0.972/0.966/0.971 before low rocks kept as ground were found as bumps); impassable precision
+// 0.67-0.72; passable precision 0.992-0.997; coverage 0.79-0.84. Slope RMSE is on the cells both
+// the truth and the map call passable (the slopes a planner uses).
 TEST(TerrainFusion, WholeDriveAgainstTruth) {
-  for (std::uint64_t seed : {21u, 22u, 23u, 24u}) {
+  for (std::uint64_t seed : {21u, 22u, 23u, 24u, 25u}) {
     const DriveResult r = drive({}, seed, false, 0.5);
     terrain::test::print(("fused seed " + std::to_string(seed)).c_str(), r.score);
     std::printf("  %.2f ms wall per scan (shared machine; bench_terrain has the CPU time)\n",
                 r.ms_per_scan);
-    EXPECT_GE(r.score.impassable_recall(), 0.96) << seed;
+    EXPECT_GE(r.score.impassable_recall(), 0.97) << seed;
     EXPECT_GE(r.score.passable_precision(), 0.99) << seed;
+    EXPECT_GT(r.score.impassable_precision(), 0.65) << seed;
     EXPECT_GT(r.score.coverage(), 0.75) << seed;
     EXPECT_LT(r.score.slope_rmse_agreed(), 1.5) << seed;
   }

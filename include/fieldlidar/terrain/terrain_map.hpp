@@ -39,15 +39,43 @@ struct FusionConfig {
   int min_free_ground_points = 3;
   /// Every n-th return's ray is traced for see-through evidence (0: none).
   int see_through_stride = 4;
+  /// A non-ground return's height is taken above the cell's ground plane under it, once earlier
+  /// scans gave the cell one; else (and when false) above this scan's lowest ground return in the
+  /// cell. On a slope that is the cell's low corner: harmless on 0.5 m cells (the drives score
+  /// the same or slightly better without the plane), but a survey's 3-5 m cells would lift low
+  /// plants into the robot's body (map_area_fused sets it).
+  bool obstacle_height_from_plane = false;
   /// Non-ground returns more than the robot's max step below the cell's ground (a pit's or
   /// ditch's wall seen over its rim) are obstacle evidence too.
   bool pit_evidence = true;
   /// A cell is called passable only when every cell of its voxel window (the robot's footprint)
   /// was seen; else it stays unknown (a shadow behind a rock or inside a pit is no free ground).
   bool passable_needs_full_window = true;
+  /// But for up to this many cells of the window that no return hit, each bridged by the ground
+  /// model: the two cells either side of it on a line inside the window are seen ground within
+  /// max_step of each other, and no cell of the window next to it holds obstacle evidence (the
+  /// gaps between a sweep's rings at range; the bridged cell itself stays unknown).
+  int max_bridged_cells = 2;
+  /// A gap is bridged only while the two cells either side hold at most this many ground returns
+  /// together: a cell still unseen beside well-seen ones is a shadow (a cliff's foot, behind a
+  /// rim), not the space between two rings.
+  int bridge_max_ground_points = 60;
   /// An obstacle's 4 neighbour cells are impassable too (its footprint is larger than the
-  /// returns on it show: the low rim of a rock, the far side of a bush).
+  /// returns on it show: the low rim of a rock, the far side of a bush), when the cells are
+  /// smaller than the robot (a voxel window of more than one cell): a cell larger than the robot
+  /// holds that rim itself.
   bool obstacle_halo = true;
+  /// A low rock or mound the ground segmentation kept as ground is an obstacle: a cell whose
+  /// ground top stands above both neighbours on a line through it (the better of the four lines;
+  /// a step, higher on one side only, is judged by max_step instead) by more than the robot's
+  /// min_obstacle_height less bump_margin_m. The ground top, about the voxel window's plane, is
+  /// the larger of the cell's mean plus bump_sigmas standard deviations and its second-highest
+  /// ground return (from scans that saw nothing raised in the cell, less the plane's rise over
+  /// half the cell's diagonal); the neighbours are their mean ground.
+  bool bump_obstacles = true;
+  double bump_sigmas = 2.0;
+  /// The measured top is low by the rock's rounded cap and the neighbours' share of it.
+  double bump_margin_m = 0.03;
   /// The planes give the mean slope over a cell or window, the robot tips on the steepest part:
   /// ground steeper than max_slope_deg - slope_margin_deg is a 2D obstacle.
   double slope_margin_deg = 3.0;
@@ -99,5 +127,17 @@ class TerrainMap {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// A whole surveyed area (airborne or terrestrial, LAS/PCD) through the fused map's cells: grid
+/// ground segmentation, then every valid return added at once, in the cloud's own frame (points
+/// relative to origin_m). A survey has no sensor position, so no ray is traced (no see-through
+/// evidence), and a cell's own plane gives its slope from `survey_own_plane_points` ground returns
+/// (a survey holds few per cell). `is_water` (empty, or one flag per point, e.g. LAS class 9):
+/// water returns are never ground, and a cell holding min_obstacle_points of them is impassable
+/// (a lake is flat, and would otherwise look like the best ground of the area). Raises
+/// fieldlidar::Error on an absurd robot or config, or flags that do not match the points.
+inline constexpr int survey_own_plane_points = 5;
+Grid2D map_area_fused(const PointCloud& cloud, const FusionConfig& config = {},
+                      std::span<const std::uint8_t> is_water = {});
 
 }  // namespace fieldlidar::terrain
