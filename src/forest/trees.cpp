@@ -195,7 +195,15 @@ std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const Scan
     return Eigen::Vector3d(p0 + d * ((z - p0.z()) / d.z()));
   };
   Tree t;
-  double zg = ground.height_near(axis_at_z(axis.point, a, stem.z_low).head<2>(), c.ground_radius_m);
+  const Eigen::Vector2d foot = axis_at_z(axis.point, a, stem.z_low).head<2>();
+  double zg = ground.height_near(foot, c.ground_radius_m);
+  // A cloud without rings (a plot; its ground from the grid): ground taken from the lowest
+  // returns of cells whose floor was never seen (under a dense crown) lies on branches, and the
+  // lower ground around replaces it.
+  if (!cloud.fields.ring) {
+    const double zg_wide = ground.quantile_near(foot, c.ground_check_radius_m, 0.1);
+    if (!std::isfinite(zg) || zg - zg_wide > c.max_ground_step_m) zg = zg_wide;
+  }
   t.ground_found = std::isfinite(zg);
   if (!t.ground_found) {
     zg = 1e30;

@@ -128,7 +128,12 @@ struct TreeConfig {
   /// A sweep: the share of scan lines between a stem's lowest and highest that must hold one of
   /// its segments (a shrub or crown gives a few scattered hits over a metre or more).
   double min_line_fill = 0.4;
-  double ground_radius_m = 1.5;   ///< ground points within this of the axis give its base
+  double ground_radius_m = 1.5;  ///< ground points within this of the axis give its base
+  /// A cloud without rings: ground flagged on branches (a cell under a dense crown whose lowest
+  /// return is not the floor) is caught as a base more than max_ground_step_m above the lowest
+  /// tenth of the ground within ground_check_radius_m, and moved down to it.
+  double ground_check_radius_m = 6.0;
+  double max_ground_step_m = 1.0;
   double merge_distance_m = 0.3;  ///< stacks whose axes pass this close at DBH are one tree
   double join_distance_m = 0.15;  ///< a stack lying on another's axis (a break) joins it
   CylinderFitConfig cylinder;     ///< radius bounds are taken from min/max_radius_m
