@@ -336,10 +336,12 @@ void run(const TrunksOptions& o) {
   fs::create_directories(out);
   for (const auto& n : names) io::check_writable(out / n, o.force, {fs::path(o.input)});
   const PointCloud cloud = io::read_cloud(o.input);
-  // A sweep (rings, or points around the sensor) gets the robust ground; a plot file the grid.
+  // A sweep with rings gets the robust ground; a plot file, or a sweep without rings (its trunks
+  // come from horizontal slices, as a plot's do), the grid: the ring-less sweep of forest_sloam
+  // gave no stack at all on the robust ground.
   segmentation::GroundResult ground;
   const bool sweep = segmentation::check_sweep(cloud).sweep;
-  if (sweep) {
+  if (sweep && cloud.fields.ring) {
     ground = segmentation::segment_ground(cloud, sensor_for(cloud, o.input, o.sensor));
   } else {
     ground = segmentation::ground_grid(cloud);

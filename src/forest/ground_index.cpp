@@ -20,6 +20,10 @@ GroundIndex::GroundIndex(const PointCloud& cloud, std::span<const std::uint8_t> 
 }
 
 double GroundIndex::height_near(const Eigen::Vector2d& xy, double radius) const {
+  return quantile_near(xy, radius, 0.5);
+}
+
+double GroundIndex::quantile_near(const Eigen::Vector2d& xy, double radius, double q) const {
   std::vector<double> z;
   const int r = int(std::ceil(radius));
   for (int dx = -r; dx <= r; ++dx)
@@ -30,8 +34,9 @@ double GroundIndex::height_near(const Eigen::Vector2d& xy, double radius) const 
         if ((p.head<2>() - xy).norm() <= radius) z.push_back(p.z());
     }
   if (z.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
-  return z[z.size() / 2];
+  const auto k = std::size_t(std::clamp(q, 0.0, 1.0) * double(z.size() - 1));
+  std::nth_element(z.begin(), z.begin() + k, z.end());
+  return z[k];
 }
 
 }  // namespace fieldlidar::forest

@@ -16,6 +16,8 @@ class GroundIndex {
   GroundIndex(const PointCloud& cloud, std::span<const std::uint8_t> is_ground);
   /// Median z of the ground points within radius of xy; NaN when there is none.
   double height_near(const Eigen::Vector2d& xy, double radius) const;
+  /// z at quantile q (0..1) of the ground points within radius of xy; NaN when there is none.
+  double quantile_near(const Eigen::Vector2d& xy, double radius, double q) const;
 
  private:
   static std::int64_t cell(double v);

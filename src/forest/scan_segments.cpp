@@ -19,8 +19,8 @@ bool usable(const Point& p, std::span<const std::uint8_t> excluded, std::size_t 
 }
 
 void finish(const PointCloud& cloud, ScanSegment&& seg, const ScanSegmentConfig& c,
-            std::vector<ScanSegment>& out) {
-  if (seg.indices.size() < c.min_points) return;
+            std::vector<ScanSegment>& out, std::size_t min_points) {
+  if (seg.indices.size() < min_points) return;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   Eigen::Vector2d lo(1e30, 1e30), hi(-1e30, -1e30);
   for (auto i : seg.indices) {
@@ -52,14 +52,14 @@ void segment_ring(const PointCloud& cloud, int ring, std::vector<std::uint32_t>&
       const double gap = order[k].first - order[k - 1].first;
       const double limit = c.max_point_gap_m + c.point_gap_per_m * std::hypot(a.x, a.y);
       if (gap > max_gap || (a.xyz() - b.xyz()).norm() > limit) {
-        finish(cloud, std::move(seg), c, out);
+        finish(cloud, std::move(seg), c, out, c.min_ring_points);
         seg = ScanSegment{};
         seg.line = ring;
       }
     }
     seg.indices.push_back(order[k].second);
   }
-  finish(cloud, std::move(seg), c, out);
+  finish(cloud, std::move(seg), c, out, c.min_ring_points);
 }
 
 // A horizontal slice of an unorganised cloud: 2D clusters by a grid of slice_link_m cells.
@@ -97,7 +97,7 @@ void segment_slice(const PointCloud& cloud, int line, const std::vector<std::uin
           }
         }
     }
-    finish(cloud, std::move(seg), c, out);
+    finish(cloud, std::move(seg), c, out, c.min_points);
   }
 }
 

@@ -80,7 +80,21 @@ class RingIndex {
       if (p.ring >= rings_.size()) rings_.resize(p.ring + 1);
       rings_[p.ring].emplace_back(std::atan2(p.y, p.x), std::hypot(p.x, p.y));
     }
-    for (auto& r : rings_) std::sort(r.begin(), r.end());
+    steps_.resize(rings_.size(), 0.0);
+    std::vector<double> gaps;
+    for (std::size_t k = 0; k < rings_.size(); ++k) {
+      auto& r = rings_[k];
+      std::sort(r.begin(), r.end());
+      gaps.clear();
+      for (std::size_t j = 1; j < r.size(); ++j) gaps.push_back(r[j].first - r[j - 1].first);
+      if (gaps.empty()) continue;
+      std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+      steps_[k] = gaps[gaps.size() / 2];
+    }
+  }
+  /// Median azimuth step between neighbouring returns of a ring (rad); 0 when unknown.
+  double step(int ring) const {
+    return ring >= 0 && std::size_t(ring) < steps_.size() ? steps_[std::size_t(ring)] : 0.0;
   }
   /// Range of the nearest return beyond azimuth `az` (direction +1 or -1) within `window` rad;
   /// +inf when there is none (a free line of sight).
@@ -100,6 +114,7 @@ class RingIndex {
 
  private:
   std::vector<std::vector<std::pair<double, double>>> rings_;
+  std::vector<double> steps_;
 };
 
 // Radius from the stem's silhouette seen from the sensor (at the origin of a sweep): on each scan
@@ -117,11 +132,10 @@ double silhouette_radius(const PointCloud& cloud, std::span<const ScanSegment> s
     int ring;
   };
   std::vector<Line> lines;
-  std::vector<double> gaps;
   for (auto s : stem.segment_ids) {
     const auto& seg = segments[s];
     const double h = seg.centroid.z() - base_z;
-    if (std::abs(h - c.dbh_height_m) > c.dbh_window_m || seg.indices.size() < 2) continue;
+    if (std::abs(h - c.dbh_height_m) > c.dbh_window_m || rings.step(seg.line) <= 0) continue;
     const Eigen::Vector3d on = cyl.point + a * ((seg.centroid.z() - cyl.point.z()) / a.z());
     Line l{1e30, -1e30, std::atan2(on.y(), on.x()), on.head<2>().norm(), 1e30, seg.line};
     std::vector<double> az;
@@ -131,17 +145,14 @@ double silhouette_radius(const PointCloud& cloud, std::span<const ScanSegment> s
       l.range = std::min(l.range, double(std::hypot(p.x, p.y)));
     }
     std::sort(az.begin(), az.end());
-    for (std::size_t k = 1; k < az.size(); ++k) gaps.push_back(az[k] - az[k - 1]);
     l.lo = az.front();
     l.hi = az.back();
     lines.push_back(l);
   }
-  if (lines.size() < c.min_silhouette_lines || gaps.empty())
-    return std::numeric_limits<double>::quiet_NaN();
-  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
-  const double step = gaps[gaps.size() / 2];
+  if (lines.size() < c.min_silhouette_lines) return std::numeric_limits<double>::quiet_NaN();
   std::vector<double> r;
   for (const auto& l : lines) {
+    const double step = rings.step(l.ring);
     const double window = 2.5 * step, nearer = l.range - c.occluder_gap_m;
     const bool lo_hidden = rings.beside(l.ring, l.bearing + l.lo, -1, window) < nearer;
     const bool hi_hidden = rings.beside(l.ring, l.bearing + l.hi, +1, window) < nearer;
@@ -152,8 +163,25 @@ double silhouette_radius(const PointCloud& cloud, std::span<const ScanSegment> s
     r.push_back(l.dist * std::sin(half));
   }
   if (r.size() < c.min_silhouette_lines) return std::numeric_limits<double>::quiet_NaN();
-  std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
-  return r[r.size() / 2];
+  std::sort(r.begin(), r.end());
+  // Mean of the middle half: each line's width is quantised to whole azimuth steps, and the lines
+  // cross the stem at varied phases of that step (lean, taper), so a mean resolves less than a
+  // step where a median stays on one of the quantised values.
+  const std::size_t cut = r.size() / 4;
+  double sum = 0;
+  for (std::size_t k = cut; k < r.size() - cut; ++k) sum += r[k];
+  return sum / double(r.size() - 2 * cut);
+}
+
+// Share of the scan lines between a stem's lowest and highest that hold a segment of it: a
+// trunk fills most of them, a shrub or crown gives scattered hits.
+double line_fill(std::span<const ScanSegment> segments, const Stem& stem) {
+  std::vector<int> lines;
+  for (auto s : stem.segment_ids) lines.push_back(segments[s].line);
+  std::sort(lines.begin(), lines.end());
+  lines.erase(std::unique(lines.begin(), lines.end()), lines.end());
+  if (lines.empty()) return 0.0;
+  return double(lines.size()) / double(lines.back() - lines.front() + 1);
 }
 
 std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const ScanSegment> segments,
@@ -167,13 +195,22 @@ std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const Scan
     return Eigen::Vector3d(p0 + d * ((z - p0.z()) / d.z()));
   };
   Tree t;
-  double zg = ground.height_near(axis_at_z(axis.point, a, stem.z_low).head<2>(), c.ground_radius_m);
+  const Eigen::Vector2d foot = axis_at_z(axis.point, a, stem.z_low).head<2>();
+  double zg = ground.height_near(foot, c.ground_radius_m);
+  // A cloud without rings (a plot; its ground from the grid): ground taken from the lowest
+  // returns of cells whose floor was never seen (under a dense crown) lies on branches, and the
+  // lower ground around replaces it.
+  if (!cloud.fields.ring) {
+    const double zg_wide = ground.quantile_near(foot, c.ground_check_radius_m, 0.1);
+    if (!std::isfinite(zg) || zg - zg_wide > c.max_ground_step_m) zg = zg_wide;
+  }
   t.ground_found = std::isfinite(zg);
   if (!t.ground_found) {
     zg = 1e30;
     for (auto i : stem.points) zg = std::min(zg, double(cloud.points[i].z));
   }
   if (stem.z_low - zg > c.max_base_height_m) return std::nullopt;  // a fork or crown branch
+  if (rings && line_fill(segments, stem) < c.min_line_fill) return std::nullopt;  // a shrub
   // Stem points within the window around breast height, along the stacked axis.
   const Eigen::Vector3d base0 = axis_at_z(axis.point, a, zg);
   std::vector<Eigen::Vector3d> band;
@@ -214,7 +251,24 @@ std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const Scan
   t.dbh_m = 2 * cyl.radius_m;
   if (rings) {
     const double r = silhouette_radius(cloud, segments, *rings, stem, cyl, zg, c);
-    if (std::isfinite(r)) t.dbh_m = 2 * std::clamp(r, c.min_radius_m, c.max_radius_m);
+    if (!std::isfinite(r)) return std::nullopt;  // too few lines near breast height
+    t.dbh_m = 2 * std::clamp(r, c.min_radius_m, c.max_radius_m);
+    // The axis placed along the sensor's line of sight from the mean range of the stem's
+    // returns: on a stem uniformly sampled across its visible width, the mean depth behind the
+    // nearest point is pi/4 of the radius. The fit's centre rests on the arc's curvature, which
+    // few returns a line and range noise leave loose.
+    {
+      double sum_range = 0, sum_z = 0;
+      for (auto i : cyl.inliers) {
+        sum_range += band[i].head<2>().norm();
+        sum_z += band[i].z();
+      }
+      const double n = double(cyl.inliers.size());
+      const Eigen::Vector3d q = axis_at_z(cyl.point, a, sum_z / n);
+      const Eigen::Vector2d bearing = q.head<2>().normalized();
+      const double d = sum_range / n + std::numbers::pi / 4 * t.dbh_m / 2;
+      t.base_m.head<2>() += bearing * d - q.head<2>();
+    }
   }
   t.residual_m = cyl.residual_m;
   t.z_min_seen_m = h_min;

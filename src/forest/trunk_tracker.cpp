@@ -138,8 +138,24 @@ void TrunkTracker::update_map(std::span<const Tree> trees, std::span<const Trunk
     if (used[j]) continue;
     const Eigen::Vector3d p = T * current[j].point;
     bool near = false;
-    for (const auto& m : map_)
-      near |= (m.landmark.point - p).head<2>().norm() < config_.new_trunk_distance_m;
+    for (auto& m : map_) {
+      const double d = (m.landmark.point - p).head<2>().norm();
+      if (d >= config_.new_trunk_distance_m) continue;
+      near = true;
+      // A mapped 'trunk' on the surface of this thicker stem, too thin to be matched with it,
+      // was a branch of it: the stem takes its place once seen there in as many scans as a map
+      // trunk needs to be reported.
+      const double tol = config_.association.dbh_tolerance_m + 0.3 * current[j].dbh_m;
+      if (current[j].dbh_m - m.landmark.dbh_m > tol && d < current[j].dbh_m / 2 + 0.1 &&
+          ++m.thicker_seen >= config_.map_min_observations) {
+        const std::uint32_t id = m.id;
+        m = MappedTrunk{};
+        m.id = id;
+        m.landmark = {p, T.linear() * current[j].axis, current[j].dbh_m};
+        add(m, j);
+      }
+      break;
+    }
     if (near) continue;
     MappedTrunk m;
     m.id = std::uint32_t(map_.size() + 1);

@@ -48,13 +48,16 @@ inline void score_frame(const sim::Scene& scene, const sim::SimFrame& frame,
     double dbh;
     bool scored;
     bool used = false;
+    int hits = 0;
+    double range = 0;
   };
   std::vector<Truth> truth;
   for (const auto& t : scene.trunks()) {
     const Eigen::Vector3d p = t.base_m + t.axis * (1.3 / t.axis.z());
     const bool near = (p - sensor).head<2>().norm() <= range_m;
     if ((p - sensor).head<2>().norm() > range_m + 2.0) continue;
-    truth.push_back({p.head<2>(), t.dbh_m, near && hits[t.id] >= min_hits});
+    truth.push_back({p.head<2>(), t.dbh_m, near && hits[t.id] >= min_hits, false, hits[t.id],
+                     (p - sensor).head<2>().norm()});
     s.truth += truth.back().scored;
   }
   for (const auto& d : trees) {
@@ -83,6 +86,22 @@ inline void score_frame(const sim::Scene& scene, const sim::SimFrame& frame,
       std::printf("    dbh %.3f true %.3f arc %.0f res %.4f obs %zu range %.1f\n", d.dbh_m,
                   best->dbh, d.arc_deg, d.residual_m, d.observations,
                   (p - sensor).head<2>().norm());
+  }
+  if (std::getenv("FOREST_DEBUG")) {
+    for (const auto& t : truth)
+      if (t.scored && !t.used)
+        std::printf("    MISS dbh %.3f hits %d range %.1f at %.2f %.2f\n", t.dbh, t.hits, t.range,
+                    t.xy.x(), t.xy.y());
+    for (const auto& d : trees) {
+      const Eigen::Vector3d p = T * d.at_height(1.3);
+      bool m = false;
+      for (const auto& t : truth) m |= (t.xy - p.head<2>()).norm() < match_m;
+      if (!m && (p - sensor).head<2>().norm() <= range_m + 1.0)
+        std::printf("    FALSE dbh %.3f arc %.0f res %.4f obs %zu range %.1f\n", d.dbh_m, d.arc_deg,
+                    d.residual_m, d.observations, (p - sensor).head<2>().norm());
+      if (!m && (p - sensor).head<2>().norm() <= range_m + 1.0)
+        std::printf("      at %.2f %.2f axis %.3f %.3f\n", p.x(), p.y(), d.axis.x(), d.axis.y());
+    }
   }
 }
 

@@ -16,12 +16,12 @@ TEST(ForestTrackingDrive, TrunksAlone) {
   d.print("trunks alone, forest, VLP-16");
   if (frames < 600 || seed != 3) return;
   EXPECT_GE(d.path_m, 45.0);
-  EXPECT_LE(d.drift_pct, 1.0);         // measured 0.677
-  EXPECT_LE(d.deg_per_100m, 5.0);      // 2.82
-  EXPECT_LE(d.end_error_m, 0.5);       // 0.205
+  EXPECT_LE(d.drift_pct, 1.0);         // measured 0.583
+  EXPECT_LE(d.deg_per_100m, 5.0);      // 2.65
+  EXPECT_LE(d.end_error_m, 0.3);       // 0.111
   EXPECT_GE(d.map_recall(), 0.97);     // 1.000 (30 trees)
   EXPECT_GE(d.map_precision(), 0.97);  // 1.000 (30 of 30)
-  EXPECT_LE(d.map_dbh_rmse(), 0.01);   // 0.0037
+  EXPECT_LE(d.map_dbh_rmse(), 0.01);   // 0.0039
 }
 
 TEST(ForestTrackingDrive, TrunksWithOdometry) {
@@ -29,11 +29,11 @@ TEST(ForestTrackingDrive, TrunksWithOdometry) {
   const auto d = run_drive(3, SensorModel::vlp16(), frames, true);
   d.print("odometry + trunks, forest seed 3, VLP-16");
   if (frames < 600) return;
-  EXPECT_LE(d.drift_pct, 1.0);     // measured 0.653
-  EXPECT_LE(d.deg_per_100m, 5.0);  // 2.60
-  EXPECT_LE(d.end_error_m, 0.5);   // 0.205
-  EXPECT_GE(d.map_recall(), 0.97);
-  EXPECT_LE(d.map_dbh_rmse(), 0.01);
+  EXPECT_LE(d.drift_pct, 1.0);        // measured 0.562
+  EXPECT_LE(d.deg_per_100m, 5.0);     // 2.45
+  EXPECT_LE(d.end_error_m, 0.3);      // 0.115
+  EXPECT_GE(d.map_recall(), 0.97);    // 1.000
+  EXPECT_LE(d.map_dbh_rmse(), 0.01);  // 0.0041
 }
 
 }  // namespace fieldlidar::forest::test

@@ -127,8 +127,11 @@ inline DriveResult run_drive(std::uint64_t seed, const SensorModel& sensor, int 
     if (std::getenv("FOREST_TRACE")) {
       double nearest = 1e30;
       for (const auto& t : truth) nearest = std::min(nearest, (t.p - p).head<2>().norm());
-      std::printf("  map trunk %u obs %zu dbh %.3f arc %.0f nearest truth %.3f m%s\n", m.id,
-                  m.observations, m.dbh_m, m.arc_deg, nearest, best ? "" : "  (unmatched)");
+      std::printf(
+          "  map trunk %u at (%.2f, %.2f) obs %zu dbh %.3f (true %.3f) arc %.0f nearest truth "
+          "%.3f m%s\n",
+          m.id, p.x(), p.y(), m.observations, m.dbh_m, best ? best->dbh : 0.0, m.arc_deg, nearest,
+          best ? "" : "  (unmatched)");
     }
     if (!best) continue;
     best->used = true;

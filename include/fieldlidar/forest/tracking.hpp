@@ -83,6 +83,7 @@ struct MappedTrunk {
   double arc_deg = 0.0;
   double residual_m = 0.0;
   std::size_t observations = 0;
+  std::size_t thicker_seen = 0;  ///< scans with an unmatched thicker stem around it (a branch?)
 };
 
 struct TrackerConfig {
@@ -91,10 +92,10 @@ struct TrackerConfig {
   MotionConfig motion;
   double sweep_period_s = 0.1;  ///< for de-skewing by the predicted motion (needs point times)
   bool deskew = true;
-  double motion_smoothing = 0.3;          ///< weight of the newest motion in the predicted one
-  double map_radius_m = 25.0;             ///< map trunks this near the predicted pose are matched
-  double new_trunk_distance_m = 0.5;      ///< an unmatched tree this near a mapped one is not added
-  double max_range_m = 15.0;              ///< trees farther than this do not enter the map
+  double motion_smoothing = 0.3;         ///< weight of the newest motion in the predicted one
+  double map_radius_m = 25.0;            ///< map trunks this near the predicted pose are matched
+  double new_trunk_distance_m = 0.5;     ///< an unmatched tree this near a mapped one is not added
+  double max_range_m = 15.0;             ///< trees farther than this do not enter the map
   std::size_t map_min_observations = 5;  ///< a map trunk is reported once seen in this many scans
 };
 

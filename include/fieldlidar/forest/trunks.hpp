@@ -18,7 +18,10 @@ struct ScanSegmentConfig {
   double max_point_gap_m = 0.15;     ///< neighbours farther apart (3D) are cut apart, plus
   double point_gap_per_m = 0.01;     ///< this much per metre of range (range noise, spacing)
   double max_radius_m = 0.6;         ///< U: segments wider than 2U (a half cylinder) are dropped
-  std::size_t min_points = 2;
+  std::size_t min_points = 2;        ///< a slice cluster of a plot cloud
+  /// A scan line: a thin stem at range gets one return on most lines (a 10 cm stem at 13 m on a
+  /// 1024-column sensor), so one return is a segment.
+  std::size_t min_ring_points = 1;
   double min_range_m = 0.5;   ///< returns nearer than this (the robot) are ignored
   double max_range_m = 40.0;  ///< and farther than this
   /// Clouds with no ring field: horizontal slices of this thickness replace the scan lines; a
@@ -122,13 +125,23 @@ struct TreeConfig {
   std::size_t min_stem_points = 8;  ///< fewer in the window: not a tree
   double min_fit_span_m = 0.8;      ///< a shorter window span keeps the stacked axis direction
   double max_base_height_m = 3.0;   ///< the lowest segment must be within this of the ground
-  double ground_radius_m = 1.5;     ///< ground points within this of the axis give its base
-  double merge_distance_m = 0.3;    ///< stacks whose axes pass this close at DBH are one tree
-  double join_distance_m = 0.15;    ///< a stack lying on another's axis (a break) joins it
-  CylinderFitConfig cylinder;       ///< radius bounds are taken from min/max_radius_m
+  /// A sweep: the share of scan lines between a stem's lowest and highest that must hold one of
+  /// its segments (a shrub or crown gives a few scattered hits over a metre or more).
+  double min_line_fill = 0.4;
+  double ground_radius_m = 1.5;  ///< ground points within this of the axis give its base
+  /// A cloud without rings: ground flagged on branches (a cell under a dense crown whose lowest
+  /// return is not the floor) is caught as a base more than max_ground_step_m above the lowest
+  /// tenth of the ground within ground_check_radius_m, and moved down to it.
+  double ground_check_radius_m = 6.0;
+  double max_ground_step_m = 1.0;
+  double merge_distance_m = 0.3;  ///< stacks whose axes pass this close at DBH are one tree
+  double join_distance_m = 0.15;  ///< a stack lying on another's axis (a break) joins it
+  CylinderFitConfig cylinder;     ///< radius bounds are taken from min/max_radius_m
   /// A sweep (rings, sensor at the origin): DBH from the stem's silhouette (angle between the
-  /// outermost returns of each scan line, median over the lines near breast height), which range
-  /// noise does not bias as it does a fit to a partial arc. Plot files always use the fit.
+  /// outermost returns of each scan line plus one azimuth step, mean of the middle half of the
+  /// lines near breast height), which range noise does not bias as it does a fit to a partial
+  /// arc, and the axis placed on the line of sight at the returns' mean range plus pi/4 of that
+  /// radius. A stem with fewer silhouette lines is dropped. Plot files always use the fit.
   bool silhouette_dbh = true;
   std::size_t min_silhouette_lines = 2;
   double occluder_gap_m = 0.3;  ///< a return beside a stem's edge this much nearer hides it
