@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev libpcl-dev libnanoflann-dev libembree-dev libtbb-dev
   libcli11-dev libfmt-dev nlohmann-json3-dev libyaml-cpp-dev
   libcairo2-dev libpcap-dev librosbag-storage-dev pluginlib-dev libgdal-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libompl-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libompl-dev libceres-dev
   clang libclang-rt-14-dev
 )
 

@@ -34,7 +34,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct OdometryOptions {
-  std::string input, imu, odom, map_in, out, sensor, topic;
+  std::string input, imu, odom, map_in, out, sensor, topic, solver = "eigen_lm";
   std::vector<double> initial_pose;  ///< x y z roll pitch yaw (m, deg) in the map
   bool frame_to_frame = false, lidar_only = false, force = false;
   double elevation_correction_deg = 0.0;
@@ -201,6 +201,9 @@ void run_odometry(const OdometryOptions& o) {
   auto source = io::FrameSource::open(input, so);
   if (o.frame_to_frame) cfg.target = odometry::MatchTarget::kPreviousFrame;
   cfg.preprocess.elevation_correction_deg = o.elevation_correction_deg;
+  cfg.lm.solver = odometry::parse_lm_solver(o.solver);
+  if (cfg.lm.solver == odometry::LmSolver::kCeres && !odometry::ceres_available())
+    throw Error("--solver ceres: this fieldlidar was built without Ceres (libceres-dev)");
   nlohmann::json memory = nlohmann::json::array();
   std::unique_ptr<odometry::LidarOdometry> odo;
   Trajectory poses;
@@ -283,6 +286,7 @@ void run_odometry(const OdometryOptions& o) {
                                   {"wheels", odom_path.string()},
                                   {"wheel_samples", wheels.size()},
                                   {"map_in", o.map_in},
+                                  {"solver", odometry::lm_solver_name(cfg.lm.solver)},
                                   {"seconds", seconds}};
   const std::string text = summary.dump(2) + "\n";
   io::write_file_atomic(out / "summary.json", text.data(), text.size(), o.force);
@@ -313,6 +317,10 @@ void add_odometry_command(CLI::App& app) {
   cmd->add_option("--elevation-correction", o->elevation_correction_deg,
                   "Added to every point's elevation (deg): 0.22 for KITTI's HDL-64E clouds")
       ->check(CLI::Range(-2.0, 2.0));
+  cmd->add_option("--solver", o->solver,
+                  "Levenberg-Marquardt of the matching: eigen_lm (default) or ceres (same "
+                  "problem, when built with libceres-dev)")
+      ->check(CLI::IsMember({"eigen_lm", "ceres"}));
   cmd->add_flag("--lidar-only", o->lidar_only,
                 "Ignore IMU and wheels (also those of a simulator folder)");
   cmd->add_option("-o,--out", o->out, "Output folder")->required();

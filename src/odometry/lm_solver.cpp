@@ -121,6 +121,7 @@ LmResult solve_lm(std::span<const Correspondence> matches, const Pose& T_world_l
   const Degeneracy dg = degeneracy(sys.H, config.degenerate_ratio);
   out.information_ratio = dg.ratio;
   out.degenerate = dg.ratio.minCoeff() < config.degenerate_ratio;
+  if (config.solver == LmSolver::kCeres) return refine_with_ceres(matches, config, out);
   const Mat6& keep = dg.keep;
   for (int it = 0; it < config.max_iterations; ++it) {
     Mat6 A = sys.H;

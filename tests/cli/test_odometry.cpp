@@ -5,8 +5,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -40,6 +42,38 @@ TEST(CliOdometry, SimulatorFolderWritesPosesMapAndSummary) {
   r = test::run_cli("odometry " + sim.string() + " --map-in " + (out / "map.pcd").string() +
                     " --initial-pose 0.3 0 0 0 0 5 --out " + loc.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+}
+
+// --solver ceres solves the same problem: the same trajectory to the file's 7 digits' worth.
+TEST(CliOdometry, SolverCeresGivesTheSamePoses) {
+  const auto dir = test::temp_dir("cli_odometry_solver");
+  const auto sim = dir / "sim";
+  auto r = test::run_cli("simulate --scene greenhouse --frames 6 --out " + sim.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = test::run_cli("odometry " + sim.string() + " --solver gauss_newton --out " +
+                    (dir / "x").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--solver"), std::string::npos) << r.output;
+  std::vector<std::vector<double>> poses[2];
+  for (int i = 0; i < 2; ++i) {
+    const auto out = dir / (i ? "ceres" : "eigen_lm");
+    r = test::run_cli("odometry " + sim.string() + " --solver " + out.filename().string() +
+                      " --out " + out.string());
+    if (i == 1 && r.exit_code != 0 && r.output.find("without Ceres") != std::string::npos)
+      GTEST_SKIP() << "built without Ceres (libceres-dev): " << r.output;
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream summary(out / "summary.json");
+    EXPECT_EQ(nlohmann::json::parse(summary)["solver"].get<std::string>(), out.filename().string());
+    std::ifstream in(out / "poses.txt");
+    for (std::string line; std::getline(in, line);) {
+      std::istringstream ss(line);
+      poses[i].emplace_back(std::istream_iterator<double>(ss), std::istream_iterator<double>());
+    }
+  }
+  ASSERT_EQ(poses[0].size(), 6u);
+  ASSERT_EQ(poses[1].size(), 6u);
+  for (std::size_t f = 0; f < 6; ++f)
+    for (std::size_t k = 0; k < 12; ++k) EXPECT_NEAR(poses[1][f][k], poses[0][f][k], 1e-4);
 }
 
 TEST(CliOdometry, ImuAndOdomTopicsOfABagAreCheckedByType) {

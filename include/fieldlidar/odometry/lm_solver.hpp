@@ -3,6 +3,7 @@
 /// distances, by a compact Levenberg-Marquardt with robust weights.
 
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -19,7 +20,12 @@ struct Correspondence {
   bool is_edge = false;
 };
 
+/// Who minimises the problem: the compact Eigen LM of lm_solver.cpp, or Ceres' LM on the same
+/// residuals, kernel, increment and stopping rule (only when built with Ceres: ceres_available()).
+enum class LmSolver { kEigenLm, kCeres };
+
 struct LmConfig {
+  LmSolver solver = LmSolver::kEigenLm;
   int max_iterations = 4;        ///< LM steps per set of correspondences
   double initial_lambda = 1e-4;  ///< damping relative to the normal matrix' diagonal
   double robust_scale_m = 0.1;   ///< Cauchy (edge, plane) kernel width
@@ -54,6 +60,16 @@ struct LmResult {
 /// translation); the correspondences are fixed during the call.
 LmResult solve_lm(std::span<const Correspondence> matches, const Pose& T_world_lidar,
                   const LmConfig& config);
+
+/// The steps of solve_lm after its degeneracy analysis, taken by Ceres (ceres_solver.cpp): `out`
+/// holds the start pose and the diagnostics; pose, iterations, convergence and RMS are filled in.
+/// Raises Error when fieldlidar was built without Ceres.
+LmResult refine_with_ceres(std::span<const Correspondence> matches, const LmConfig& config,
+                           LmResult out);
+bool ceres_available();
+/// "eigen_lm" / "ceres" <-> LmSolver; parse_lm_solver raises Error naming the value.
+LmSolver parse_lm_solver(const std::string& name);
+const char* lm_solver_name(LmSolver solver);
 
 /// SE(3) exponential of (rotation vector, translation) as used by the solver's update.
 Pose se3_exp(const Eigen::Matrix<double, 6, 1>& xi);
