@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace fieldlidar::odometry {
 
@@ -84,21 +85,29 @@ void ring_curvature(const PointCloud& cloud, const std::vector<std::uint32_t>& i
     if (bad[k]) c[k] = -1.f;
 }
 
-/// Visits the first `limit` elements of `order` in the order of `before` (ties by index) until
-/// `visit` returns false. Only what is visited gets sorted: chunks picked by nth_element, each
-/// twice the last, so a sector whose first few candidates suffice costs one linear pass.
-template <class Before, class Visit>
-void visit_sorted(std::vector<int>& order, std::size_t limit, std::size_t chunk, Before before,
+/// Sort key of position k with curvature c >= 0: ascending keys give ascending c (the bits of a
+/// non-negative float order as the float), ties by k; with `descending`, descending c, ties by k.
+std::uint64_t sort_key(float c, int k, bool descending) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &c, sizeof bits);
+  if (descending) bits = ~bits;
+  return (std::uint64_t(bits) << 32) | std::uint32_t(k);
+}
+
+/// Visits the positions of the first `limit` keys in ascending order until `visit` returns false.
+/// Only what is visited gets sorted: chunks picked by nth_element, each twice the last, so a
+/// sector whose first few candidates suffice costs one linear pass.
+template <class Visit>
+void visit_sorted(std::vector<std::uint64_t>& keys, std::size_t limit, std::size_t chunk,
                   Visit visit) {
-  const auto less = [&](int a, int b) { return before(a, b) || (!before(b, a) && a < b); };
-  const std::size_t end = std::min(limit, order.size());
+  const std::size_t end = std::min(limit, keys.size());
   for (std::size_t done = 0; done < end; chunk *= 2) {
     const std::size_t next = std::min(end, done + std::max<std::size_t>(chunk, 1));
-    const auto first = order.begin() + long(done), last = order.begin() + long(next);
-    if (next < order.size()) std::nth_element(first, last, order.end(), less);
-    std::sort(first, last, less);
+    const auto first = keys.begin() + long(done), last = keys.begin() + long(next);
+    if (next < keys.size()) std::nth_element(first, last, keys.end());
+    std::sort(first, last);
     for (auto it = first; it != last; ++it)
-      if (!visit(*it)) return;
+      if (!visit(int(std::uint32_t(*it)))) return;
     done = next;
   }
 }
@@ -125,7 +134,7 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
   const float C = float(config.curvature_threshold);
   const int n = config.neighbours;
   std::vector<float> c;
-  std::vector<int> order;
+  std::vector<std::uint64_t> order;
   std::vector<std::uint8_t> picked;
   RingScratch scratch;
   for (const auto& idx : ring_lists(cloud, rings, allowed)) {
@@ -146,11 +155,10 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
       // Edges: the candidates with c >= C, strongest first.
       order.clear();
       for (int k = b; k < e; ++k)
-        if (c[k] >= C) order.push_back(k);
+        if (c[k] >= C) order.push_back(sort_key(c[k], k, true));
       int taken = 0;
       visit_sorted(
           order, 8 * std::size_t(config.edges_per_sector), 2 * std::size_t(config.edges_per_sector),
-          [&](int a, int b2) { return c[a] > c[b2]; },
           [&](int k) {
             if (taken >= config.edges_per_sector) return false;
             if (picked[k] || (!plane_only.empty() && plane_only[idx[k]])) return true;
@@ -162,19 +170,17 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
       // Planes: the smallest c first.
       order.clear();
       for (int k = b; k < e; ++k)
-        if (c[k] >= 0 && c[k] < C) order.push_back(k);
+        if (c[k] >= 0 && c[k] < C) order.push_back(sort_key(c[k], k, false));
       taken = 0;
-      visit_sorted(
-          order, 8 * std::size_t(config.planes_per_sector),
-          2 * std::size_t(config.planes_per_sector), [&](int a, int b2) { return c[a] < c[b2]; },
-          [&](int k) {
-            if (taken >= config.planes_per_sector) return false;
-            if (picked[k]) return true;
-            (c[k] < C / 2 ? strong_p : weak_p).push_back(cloud.points[idx[k]].xyz());
-            suppress(k);
-            ++taken;
-            return true;
-          });
+      visit_sorted(order, 8 * std::size_t(config.planes_per_sector),
+                   2 * std::size_t(config.planes_per_sector), [&](int k) {
+                     if (taken >= config.planes_per_sector) return false;
+                     if (picked[k]) return true;
+                     (c[k] < C / 2 ? strong_p : weak_p).push_back(cloud.points[idx[k]].xyz());
+                     suppress(k);
+                     ++taken;
+                     return true;
+                   });
     }
     int stride = 0;
     for (int k = 0; k < m; ++k) {

@@ -104,31 +104,45 @@ void VoxelMap::crop(const Eigen::Vector3d& centre_world) {
 std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
                               std::vector<Eigen::Vector3f>& out) const {
   // The k nearest among the 8 voxels nearest the query, by insertion into a short sorted list.
+  // The voxels are visited nearest box first; once k points are found, a voxel whose box is
+  // farther than the k-th of them cannot hold a nearer point, nor can the ones after it.
   const int k = std::clamp(config_.neighbours, 1, 16);
   const float max2 = float(config_.max_neighbour_distance_m * config_.max_neighbour_distance_m);
   std::array<std::pair<float, Eigen::Vector3f>, 16> best;
   int n = 0;
   const Key c = key_of(query);
-  const float inv = inv_voxel_;
-  const int sx = query.x() * inv - float(c.x) < 0.5f ? -1 : 1;
-  const int sy = query.y() * inv - float(c.y) < 0.5f ? -1 : 1;
-  const int sz = query.z() * inv - float(c.z) < 0.5f ? -1 : 1;
-  for (int dx = 0; dx <= 1; ++dx)
-    for (int dy = 0; dy <= 1; ++dy)
-      for (int dz = 0; dz <= 1; ++dz) {
-        const std::int32_t cell = find({c.x + dx * sx, c.y + dy * sy, c.z + dz * sz});
-        if (cell < 0) continue;
-        for (const auto& p : cells_[std::size_t(cell)].points) {
-          const float d2 = (p - query).squaredNorm();
-          if (d2 > max2 || (n == k && d2 >= best[n - 1].first)) continue;
-          int j = n < k ? n++ : n - 1;
-          while (j > 0 && best[j - 1].first > d2) {
-            best[j] = best[j - 1];
-            --j;
-          }
-          best[j] = {d2, p};
-        }
+  const float inv = inv_voxel_, side = 1.f / inv;
+  // Position in the own voxel (0..1 of a side), the neighbour on the nearer side of each axis and
+  // the squared distance (m^2) to the face shared with it.
+  const Eigen::Vector3f f = query * inv - Eigen::Vector3f(float(c.x), float(c.y), float(c.z));
+  int s[3];
+  float face2[3];
+  for (int a = 0; a < 3; ++a) {
+    s[a] = f[a] < 0.5f ? -1 : 1;
+    const float d = (f[a] < 0.5f ? f[a] : 1.f - f[a]) * side;
+    face2[a] = d * d;
+  }
+  std::array<std::pair<float, int>, 8> order;  // (box distance^2, offset bits x|y|z)
+  for (int b = 0; b < 8; ++b)
+    order[b] = {
+        ((b & 4) ? face2[0] : 0.f) + ((b & 2) ? face2[1] : 0.f) + ((b & 1) ? face2[2] : 0.f), b};
+  std::sort(order.begin(), order.end());
+  for (const auto& [box2, b] : order) {
+    if (box2 > max2 || (n == k && box2 >= best[n - 1].first)) break;
+    const std::int32_t cell =
+        find({c.x + ((b & 4) ? s[0] : 0), c.y + ((b & 2) ? s[1] : 0), c.z + ((b & 1) ? s[2] : 0)});
+    if (cell < 0) continue;
+    for (const auto& p : cells_[std::size_t(cell)].points) {
+      const float d2 = (p - query).squaredNorm();
+      if (d2 > max2 || (n == k && d2 >= best[n - 1].first)) continue;
+      int j = n < k ? n++ : n - 1;
+      while (j > 0 && best[j - 1].first > d2) {
+        best[j] = best[j - 1];
+        --j;
       }
+      best[j] = {d2, p};
+    }
+  }
   out.clear();
   for (int i = 0; i < n; ++i) out.push_back(best[i].second);
   return out.size();

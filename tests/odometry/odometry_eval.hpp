@@ -40,6 +40,7 @@ inline SimSequence simulate_sequence(sim::SceneKind kind, int first, int frames,
   s.T_base_lidar = motion.T_base_lidar();
   sim::SimConfig cfg;
   cfg.seed = seed + 1;
+  if (const char* v = std::getenv("FIELDLIDAR_SIM_RANGE_NOISE")) cfg.range_noise_m = std::atof(v);
   const sim::LidarSimulator simulator(scene, sensor, cfg);
   for (int i = first; i < first + frames; ++i) {
     auto f = simulator.scan(i * period, motion.lidar_pose_fn());
@@ -92,6 +93,7 @@ struct TrajectoryErrors {
   double rpe_r_deg = 0;  ///< RMS per-frame rotation error
   double drift_pct = 0;  ///< mean translation error / length over segments
   double path_m = 0;
+  double scale = 1;  ///< reference / estimate of the similarity alignment
 };
 
 inline double angle_deg(const Eigen::Matrix3d& R) {
@@ -117,6 +119,7 @@ inline TrajectoryErrors trajectory_errors(const std::vector<Pose>& est,
   out.rpe_r_deg = m.rpe.rotation_deg.rmse;
   out.drift_pct = m.drift.translation_pct;
   out.path_m = m.reference_path_m;
+  out.scale = m.ate_sim3.alignment.scale;
   return out;
 }
 
@@ -163,6 +166,10 @@ inline void apply_env(OdometryConfig& c) {
   integer("STRIDE", c.features.map_plane_stride);
   num("ROBUST", c.lm.robust_scale_m);
   num("DEGEN", c.lm.degenerate_ratio);
+  integer("NEIGH", c.map.neighbours);
+  num("NEIGHDIST", c.map.max_neighbour_distance_m);
+  num("PLANEDIST", c.map.max_plane_distance_m);
+  num("AZPERIOD", c.deskew.azimuth_time_period_s);
   if (std::getenv("HOLDDEGEN")) c.lm.hold_degenerate = true;
   if (std::getenv("NODESKEW")) c.deskew.enabled = false;
   if (std::getenv("CVDESKEW")) c.deskew.constant_velocity = true;

@@ -104,6 +104,11 @@ TEST(OdometryKitti, DISABLED_Report) {
   }
 }
 
+// ATE 0.142 m, path 0.9715 of the reference's. The ATE is the reference's scale: the reference
+// itself scaled by 0.9715 scores 0.146 m, and after a similarity alignment ours is 0.022 m. 0.135
+// m would need a path ratio of 0.9735. De-skewing by azimuth (clockwise from behind, as KISS-ICP
+// times KITTI points, or any other start and sense) raised the RPE from 1.6 to 2.7-4.4 cm: these
+// sweeps behave as already motion-compensated.
 TEST(OdometryKitti, AllFramesAgainstOrbSlam3) {
   if (kitti().frames.empty()) GTEST_SKIP() << "kitti_tracking0000 not found";
   const auto e = run_kitti(0, 50, 1, kitti_config());
