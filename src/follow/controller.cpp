@@ -118,28 +118,6 @@ Pose2 predict_pose(const Pose2& p, double v, double dv, double b, double dt) {
   return out;
 }
 
-double corner_speed_limit(const Trail& trail, const DriveConfig& d) {
-  const auto& pts = trail.points();
-  const std::size_t k =
-      std::max<std::size_t>(1, std::size_t(std::ceil(d.corner_window_m / d.trail_spacing_m)));
-  const double brake_m_s2 = std::max(d.max_accel_m_s2, 1e-3);
-  const double reach_m =
-      d.max_speed_m_s * d.max_speed_m_s / (2 * brake_m_s2) + d.corner_window_m;
-  double limit = d.max_speed_m_s;
-  double along_m = 0;  // from the breadcrumb at the mower's progress
-  for (std::size_t i = trail.progress(); i + k + 1 < pts.size() && along_m <= reach_m; ++i) {
-    const Eigen::Vector2d u = pts[i + 1] - pts[i], w = pts[i + k + 1] - pts[i + k];
-    if (u.norm() > 1e-9 && w.norm() > 1e-9) {
-      const double turn = wrap_angle(std::atan2(w.y(), w.x()) - std::atan2(u.y(), u.x()));
-      const double v_corner =
-          d.max_speed_m_s * std::max(d.corner_min_speed_factor, std::cos(turn));
-      limit = std::min(limit, std::sqrt(v_corner * v_corner + 2 * brake_m_s2 * along_m));
-    }
-    along_m += u.norm();
-  }
-  return limit;
-}
-
 double choose_dv(const Pose2& pose, double v, const Trail& trail, const DriveConfig& d) {
   const int n = std::max(d.dv_samples, 3) | 1;  // odd: dv = 0 is a candidate
   auto cost = [&](double dv) {
@@ -189,7 +167,11 @@ FollowController::Output FollowController::step(const Pose2& mower,
                             0.0, drive_.max_speed_m_s);
   const bool hold = v_des <= 0.0;  // close enough: stand still rather than turn in place
   if (here.valid) v_des *= std::max(0.0, std::cos(wrap_angle(mower.yaw_rad - here.heading_rad)));
-  v_des = std::min(v_des, corner_speed_limit(trail, drive_));
+  // Slow down before a corner: the trail's direction one prediction horizon ahead differs.
+  const auto ahead =
+      trail.project(predict_pose(mower, v_, 0.0, drive_.track_width_m, drive_.prediction_s).xy());
+  if (here.valid && ahead.valid)
+    v_des *= std::max(0.3, std::cos(wrap_angle(ahead.heading_rad - here.heading_rad)));
   const double dv_acc = drive_.max_accel_m_s2 * dt;
   double v = std::clamp(v_des, v_ - dv_acc, v_ + dv_acc);
   double dv = hold ? 0.0 : choose_dv(mower, v, trail, drive_);

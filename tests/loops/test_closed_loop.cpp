@@ -56,10 +56,10 @@ ClosedLoopResult run(Scenario s, PoseSource source = PoseSource::kOdometry) {
 }
 
 // Measured (Release, VLP-16, scene seed 0), the mower's pose from the odometry: boundary mean
-// 0.022 m, Hausdorff 0.201 m along the 68.9 m loop (true poses: 0.018 m, 0.208 m). The Hausdorff
-// distance is the controller's overshoot at a corner; it varies by a few centimetres with any
-// change upstream, whichever the pose source (before the mower braked for corners in time it
-// was 0.29 m, and a rounding-level change of the angle wrap took it to 0.37 m).
+// 0.031 m, Hausdorff 0.291 m, odometry ATE 0.035 m along the 68.9 m loop (true poses: 0.020 m,
+// 0.289 m). The Hausdorff distance is the controller's overshoot after the first corner: the
+// mower's true path is 0.300 m outside the walked loop there; it varies by a few centimetres
+// with any change upstream, whichever the pose source.
 TEST(ClosedLoop, DefaultLawnBoundaryMatchesTheWalkedLoop) {
   const auto r = run(Scenario::kDefault);
   EXPECT_TRUE(r.stopped_by_command);
@@ -72,7 +72,7 @@ TEST(ClosedLoop, DefaultLawnBoundaryMatchesTheWalkedLoop) {
   EXPECT_GT(r.frames_following, r.rows.size() * 95 / 100);
 }
 
-// Odometry poses: boundary mean 0.020 m, Hausdorff 0.237 m (true poses: 0.019 m, 0.183 m).
+// Odometry poses: boundary mean 0.027 m, Hausdorff 0.290 m (true poses: 0.019 m, 0.217 m).
 TEST(ClosedLoop, CrossingPersonNeverTakesTheTargetId) {
   const auto r = run(Scenario::kCrossing);
   ASSERT_TRUE(r.first_target_id.has_value());
@@ -89,7 +89,7 @@ TEST(ClosedLoop, CrossingPersonNeverTakesTheTargetId) {
   EXPECT_EQ(r.frames_moving_too_close, 0u);
 }
 
-// Odometry poses: boundary mean 0.024 m, Hausdorff 0.273 m (true poses: 0.021 m, 0.193 m).
+// Odometry poses: boundary mean 0.033 m, Hausdorff 0.224 m (true poses: 0.017 m, 0.250 m).
 TEST(ClosedLoop, OperatorStoppingIsNeverApproachedBelowTheSafeDistance) {
   const auto r = run(Scenario::kStop);
   EXPECT_EQ(r.frames_moving_too_close, 0u);

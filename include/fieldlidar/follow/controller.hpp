@@ -48,11 +48,6 @@ struct DriveConfig {
   double prediction_s = 0.6;         ///< horizon of the kinematic prediction
   int dv_samples = 81;               ///< dv candidates evaluated over [-max_dv, max_dv]
   double trail_spacing_m = 0.20;     ///< breadcrumbs at least this far apart (m)
-  /// Corners: the trail's heading change over this length ahead of each breadcrumb caps the
-  /// speed there at max_speed * max(corner_min_speed_factor, cos(change)), and the mower brakes
-  /// for it in time (at max_accel).
-  double corner_window_m = 0.6;
-  double corner_min_speed_factor = 0.3;
 };
 
 /// Wheel speeds as commanded (seed 000, step 7): v_l = v - dv/2, v_r = v + dv/2 and the motor
@@ -101,10 +96,6 @@ Pose2 predict_pose(const Pose2& pose, double v_m_s, double dv_m_s, double track_
 /// Seed 000, step 7: dv in [-max_dv, max_dv] minimising (k_p e_p)^2 + e_fai^2 of the predicted
 /// pose against the trail (sampled, then refined on a parabola through the best three).
 double choose_dv(const Pose2& pose, double v_m_s, const Trail& trail, const DriveConfig& drive);
-
-/// Highest forward speed (m/s) from which the mower can still slow down to take each corner of
-/// the trail ahead of its progress (see DriveConfig::corner_window_m).
-double corner_speed_limit(const Trail& trail, const DriveConfig& drive);
 
 /// State of the drive between frames: applies speed and acceleration limits, and the safety rule.
 class FollowController {
