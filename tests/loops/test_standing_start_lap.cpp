@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "standing_start.hpp"
+#include "seed_targets.hpp"
 
 namespace fieldlidar::loops {
 namespace {
@@ -23,13 +24,7 @@ TEST(StandingStart, WholeLapMeetsTheSeedTargets) {
   const auto s = read_standing_start(r);
   print("standing-start, whole lap", r, s);
   expect_standing_start(s);
-  EXPECT_TRUE(r.stopped_by_command);
-  EXPECT_LE(r.boundary_error.mean_m, 0.10);
-  EXPECT_LE(r.boundary_error.hausdorff_m, 0.30);
-  EXPECT_EQ(r.frames_moving_too_close, 0u);
-  EXPECT_EQ(r.target_switches, 0u);
-  EXPECT_EQ(r.frames_target_off, 0u);
-  EXPECT_TRUE(r.boundary.self_intersections.empty());
+  test::expect_seed_000_lap_targets(r);
 }
 
 }  // namespace
