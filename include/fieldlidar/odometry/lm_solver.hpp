@@ -35,8 +35,9 @@ struct LmConfig {
   /// marginalised out (Schur complement of the normal matrix), and on the rotation with the
   /// translation marginalised out; a block whose smallest / largest eigenvalue is below this has a
   /// direction the matches barely constrain. A simulated featureless corridor (VLP-16, 3 cm
-  /// range noise) gives 0.008-0.009 along it, not 0: plane normals fitted to 5 noisy points tilt
-  /// at random and lend the direction some information. Greenhouse aisles: median 0.08.
+  /// range noise) gives about 0.002 along it, not 0 (0.008-0.009 when planes were fitted to 5
+  /// points): noisy plane normals tilt at random and lend the direction some information.
+  /// Greenhouse aisles: median 0.08.
   double degenerate_ratio = 0.01;
   /// Keep the prior along degenerate directions (LOAM's solution remapping). Off: on the
   /// simulated greenhouse (600 frames, VLP-16) holding them raised the drift from 0.20 % to
