@@ -268,7 +268,8 @@ void run(const TraversabilityOptions& o) {
                 {"max_slope_deg", cfg.robot.max_slope_deg},
                 {"max_step_m", cfg.robot.max_step_m},
                 {"clearance_m", cfg.robot.clearance_m},
-                {"min_obstacle_height_m", cfg.robot.min_obstacle_height_m}};
+                {"min_obstacle_height_m", cfg.robot.min_obstacle_height_m},
+                {"min_turn_radius_m", cfg.robot.min_turn_radius_m}};
   j["resolution_m"] = g.resolution_m;
   j["width_cells"] = g.width;
   j["height_cells"] = g.height;
@@ -304,7 +305,8 @@ void add_traversability_command(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--robot", o->robot,
                   "Robot config YAML (length_m, width_m, max_slope_deg, max_step_m, "
-                  "clearance_m, min_obstacle_height_m); default: the seed's 0.93 x 0.58 m robot")
+                  "clearance_m, min_obstacle_height_m, min_turn_radius_m; see config/robot_seed004.yaml); "
+                  "default: the seed's 0.93 x 0.58 m robot")
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", o->out,
                   "Output folder (traversability.yaml/.pgm/.png, layers/*.tif, summary.json)")

@@ -138,7 +138,8 @@ TEST(CliTraversability, SequenceFusedWithPosesRobotConfigAndGeoTiffs) {
   ASSERT_EQ(s.exit_code, 0) << s.output;
   {
     std::ofstream robot(dir / "robot.yaml");
-    robot << "robot:\n  length_m: 1.0\n  width_m: 0.6\n  max_slope_deg: 20\n";
+    robot << "robot:\n  length_m: 1.0\n  width_m: 0.6\n  max_slope_deg: 20\n"
+             "  min_turn_radius_m: 1.5\n";
   }
   const auto r = run_cli(args({"traversability", quoted(sim), "--poses", quoted(sim / "poses.txt"),
                                "--robot", quoted(dir / "robot.yaml"), "--out", quoted(out)}));
@@ -147,6 +148,7 @@ TEST(CliTraversability, SequenceFusedWithPosesRobotConfigAndGeoTiffs) {
   EXPECT_EQ(j["input"], "sequence");
   EXPECT_EQ(j["frames"], 20);
   EXPECT_DOUBLE_EQ(j["robot"]["max_slope_deg"].get<double>(), 20.0);
+  EXPECT_DOUBLE_EQ(j["robot"]["min_turn_radius_m"].get<double>(), 1.5);
   EXPECT_GT(j["cells_known"].get<int>(), 500);  // 727 measured (2 s of driving)
   for (const char* layer : {"slope_deg", "roughness_m", "impassable", "traversability",
                             "elevation_m", "obstacle_2d", "step_m", "points"}) {
