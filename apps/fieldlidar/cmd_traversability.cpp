@@ -304,8 +304,8 @@ void add_traversability_command(CLI::App& app) {
                   "folder's poses.txt; or TUM, by stamp); default: the lidar odometry")
       ->check(CLI::ExistingFile);
   cmd->add_option("--robot", o->robot,
-                  "Robot config YAML (length_m, width_m, max_slope_deg, max_step_m, "
-                  "clearance_m, min_obstacle_height_m, min_turn_radius_m; see config/robot_seed004.yaml); "
+                  "Robot config YAML (length_m, width_m, max_slope_deg, max_step_m, clearance_m, "
+                  "min_obstacle_height_m, min_turn_radius_m; see config/robot_seed004.yaml); "
                   "default: the seed's 0.93 x 0.58 m robot")
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", o->out,

@@ -124,9 +124,9 @@ double choose_dv(const Pose2& pose, double v, const Trail& trail, const DriveCon
     const Pose2 q = predict_pose(pose, v, dv, d.track_width_m, d.prediction_s);
     const auto pr = trail.project(q.xy());
     if (!pr.valid) return std::numeric_limits<double>::infinity();
-    const double e_p = pr.lateral_m;                             // lateral error
-    const double e_fai = wrap_angle(q.yaw_rad - pr.heading_rad);       // heading error
-    return std::pow(d.lateral_weight * e_p, 2) + e_fai * e_fai;  // seed 000: (k e_p)^2 + e_fai^2
+    const double e_p = pr.lateral_m;                              // lateral error
+    const double e_fai = wrap_angle(q.yaw_rad - pr.heading_rad);  // heading error
+    return std::pow(d.lateral_weight * e_p, 2) + e_fai * e_fai;   // seed 000: (k e_p)^2 + e_fai^2
   };
   const double step = 2 * d.max_dv_m_s / (n - 1);
   int best = n / 2;

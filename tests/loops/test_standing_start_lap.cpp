@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "standing_start.hpp"
 #include "seed_targets.hpp"
+#include "standing_start.hpp"
 
 namespace fieldlidar::loops {
 namespace {

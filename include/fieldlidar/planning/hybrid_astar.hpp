@@ -20,7 +20,7 @@ namespace fieldlidar::planning {
 struct PlannerConfig {
   /// R_min; valid range [0.1, 100] m
   double min_turn_radius_m = terrain::RobotConfig{}.min_turn_radius_m;
-  int heading_bins = 72;           ///< search lattice headings (5 deg)
+  int heading_bins = 72;  ///< search lattice headings (5 deg)
   /// Arc length of one motion primitive (m); 0: just over a cell diagonal, so a child always
   /// leaves its parent's cell.
   double step_m = 0.0;
