@@ -26,6 +26,17 @@ struct Counts {
   double precision() const { return tp / double(std::max(1, tp + fp)); }
   double recall() const { return tp / double(std::max(1, tp + fn)); }
   double passable_precision() const { return tn / double(std::max(1, tn + fn)); }
+  /// One scored cell: `value` our impassable claim (> 0.5; NaN unknown, counted in `scored` only).
+  void add(float value, bool truth_obstacle) {
+    ++scored;
+    if (!std::isfinite(value)) return;
+    ++known;
+    const bool ours = value > 0.5f;
+    tp += ours && truth_obstacle;
+    fp += ours && !truth_obstacle;
+    fn += !ours && truth_obstacle;
+    tn += !ours && !truth_obstacle;
+  }
 };
 
 /// Per cell of `map`: obstacle when it holds a tree/bush/fence/person return, passable when all
@@ -54,15 +65,7 @@ Counts score_rellis(const Grid2D& map, const char* layer_name, const PointCloud&
   for (std::size_t k = 0; k < g.cell_count(); ++k) {
     const bool truth_obstacle = obstacle[k];
     const bool truth_passable = !obstacle[k] && !other[k] && passable[k];
-    if (!truth_obstacle && !truth_passable) continue;
-    ++s.scored;
-    if (!std::isfinite(v[k])) continue;
-    ++s.known;
-    const bool ours = v[k] > 0.5f;
-    s.tp += ours && truth_obstacle;
-    s.fp += ours && !truth_obstacle;
-    s.fn += !ours && truth_obstacle;
-    s.tn += !ours && !truth_obstacle;
+    if (truth_obstacle || truth_passable) s.add(v[k], truth_obstacle);
   }
   return s;
 }
@@ -211,15 +214,7 @@ TEST(TerrainReal, AirborneCellsAgainstClasses) {
         const bool obstacle = raised[k] >= 2 || wet[k] >= 2;
         const bool passable = !obstacle && n[k] >= 3 && raised[k] == 0 &&
                               std::acos(normal[k].z()) * 180 / M_PI <= 25.0;
-        if (!obstacle && !passable) continue;
-        ++c.scored;
-        if (!std::isfinite(impassable[k])) continue;
-        ++c.known;
-        const bool ours = impassable[k] > 0.5f;
-        c.tp += ours && obstacle;
-        c.fp += ours && !obstacle;
-        c.fn += !ours && obstacle;
-        c.tn += !ours && !obstacle;
+        if (obstacle || passable) c.add(impassable[k], obstacle);
       }
       const std::string name = std::string(fused ? "fused" : "single-pass") + " Topography.las, " +
                                std::to_string(int(cell_m)) + " m cells";
