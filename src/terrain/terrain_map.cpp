@@ -22,6 +22,7 @@ struct TerrainMap::Impl {
   CellStore store;
   std::size_t scans = 0;
   Eigen::Vector3d last_sensor_m = Eigen::Vector3d::Zero();
+  double last_stamp_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 namespace {
@@ -62,6 +63,9 @@ TerrainMap::TerrainMap(FusionConfig config) : impl_(std::make_unique<Impl>()) {
     throw Error(
         "terrain fusion: hit_log_odds and max_log_odds must be > 0, miss_log_odds and "
         "min_log_odds < 0");
+  if (!(config.evidence_period_s >= 0 && config.evidence_period_s <= 1e3))
+    throw Error("terrain fusion: evidence_period_s = " + std::to_string(config.evidence_period_s) +
+                " is outside [0, 1000] s");
   impl_->config = config;
 }
 TerrainMap::~TerrainMap() = default;
@@ -78,12 +82,12 @@ const FusionConfig& TerrainMap::config() const {
 FusionUpdate TerrainMap::add_scan(const PointCloud& scan, const SensorModel& sensor,
                                   const Pose& T_map_lidar) {
   const ScanPoints in_map = scan_points_in_map(scan, sensor, T_map_lidar, impl_->config.layers);
-  return add_points(in_map.points_m, in_map.is_ground, T_map_lidar.translation());
+  return add_points(in_map.points_m, in_map.is_ground, T_map_lidar.translation(), scan.stamp_s);
 }
 
 FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
                                     std::span<const std::uint8_t> is_ground,
-                                    const Eigen::Vector3d& sensor_m) {
+                                    const Eigen::Vector3d& sensor_m, double stamp_s) {
   if (is_ground.size() != pts.size())
     throw Error("terrain fusion: " + std::to_string(is_ground.size()) + " ground flags for " +
                 std::to_string(pts.size()) + " points");
@@ -102,6 +106,11 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
   }
   ++impl_->scans;
   impl_->last_sensor_m = sensor_m;
+  // The share of a whole scan's evidence this one adds (FusionConfig::evidence_period_s).
+  const double dt = stamp_s - impl_->last_stamp_s;
+  const float weight =
+      f.evidence_period_s > 0 && dt > 0 ? float(std::min(1.0, dt / f.evidence_period_s)) : 1.0f;
+  if (std::isfinite(stamp_s)) impl_->last_stamp_s = stamp_s;
   if (u.points == 0) return u;
   const int w = hi.x() - lo.x() + 1, h = hi.y() - lo.y() + 1;
   if (double(w) * h > 4e7)
@@ -188,10 +197,10 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
         for (float z : s.ground_top) cell.add_ground_top(z);
       const float before = cell.log_odds;
       if (int(s.raised) >= c.min_obstacle_points) {
-        cell.log_odds = std::min(f.max_log_odds, cell.log_odds + f.hit_log_odds);
+        cell.log_odds = std::min(f.max_log_odds, cell.log_odds + weight * f.hit_log_odds);
         cell.obstacle_top_m = std::max(cell.obstacle_top_m, s.top_m);
       } else if (int(s.ground) >= f.min_free_ground_points || s.seen_through) {
-        cell.log_odds = std::max(f.min_log_odds, cell.log_odds + f.miss_log_odds);
+        cell.log_odds = std::max(f.min_log_odds, cell.log_odds + weight * f.miss_log_odds);
         if (cell.log_odds <= 0.0f) cell.obstacle_top_m = 0.0f;
       }
       if (s.ground == 0 && cell.log_odds == before) continue;

@@ -77,6 +77,40 @@ TEST(TerrainFusionCells, ObstacleEvidenceDecaysWhenTheGroundIsSeenAgain) {
   EXPECT_EQ(*map.global_map().value_at(layer::kImpassable, c), 0.0f);
 }
 
+// Evidence per time: a person in a cell seen free half a second before. Hit by one sweep 0.1 s
+// later (10 Hz) the cell stays free (-0.7 + 0.2 * 0.85 < 0); after five such sweeps it blocks;
+// scans without stamps, or 0.5 s apart, count whole (one hit: -0.7 + 0.85 > 0).
+TEST(TerrainFusionCells, EvidenceCountsPerTimeNotPerSweep) {
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::uint8_t> ground;
+  plane(0.0, 0.1, 0.05, pts, ground);
+  std::vector<Eigen::Vector3d> with_person = pts;
+  std::vector<std::uint8_t> g_person = ground;
+  for (double z = 0.2; z < 1.0; z += 0.1)
+    with_person.emplace_back(5.2, 5.2, z), g_person.push_back(0);
+  const Eigen::Vector2d c(5.25, 5.25);
+  const auto blocked = [&](const TerrainMap& m) {
+    return *m.global_map().value_at(layer::kObstacleProjected, c) == 1.0f;
+  };
+  TerrainMap sweeps, unstamped, slow;
+  sweeps.add_points(pts, ground, {0, 0, 1}, 10.0);
+  sweeps.add_points(with_person, g_person, {0, 0, 1}, 10.1);
+  EXPECT_FALSE(blocked(sweeps));
+  for (double t : {10.2, 10.3, 10.4}) sweeps.add_points(with_person, g_person, {0, 0, 1}, t);
+  EXPECT_FALSE(blocked(sweeps));  // -0.7 + 4 * 0.17
+  sweeps.add_points(with_person, g_person, {0, 0, 1}, 10.5);
+  EXPECT_TRUE(blocked(sweeps));
+  unstamped.add_points(pts, ground, {0, 0, 1});
+  unstamped.add_points(with_person, g_person, {0, 0, 1});
+  EXPECT_TRUE(blocked(unstamped));
+  slow.add_points(pts, ground, {0, 0, 1}, 10.0);
+  slow.add_points(with_person, g_person, {0, 0, 1}, 10.5);
+  EXPECT_TRUE(blocked(slow));
+  FusionConfig bad;
+  bad.evidence_period_s = -1;
+  EXPECT_THROW(TerrainMap{bad}, Error);
+}
+
 TEST(TerrainFusionCells, BadInputGivesUnknownOrAClearError) {
   TerrainMap map;
   const std::vector<Eigen::Vector3d> nan = {Eigen::Vector3d::Constant(std::nan(""))};

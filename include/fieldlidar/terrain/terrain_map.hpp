@@ -5,6 +5,7 @@
 /// robot and the global map of the whole drive are views of the same cells.
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 
@@ -29,6 +30,11 @@ namespace fieldlidar::terrain {
 /// cell's obstacle top without ending there (seen through), so a person who walked through leaves
 /// no obstacle once the ground there is seen again or seen past. A scan that hits the cell wins
 /// over one that sees through it. A cell is an obstacle while its log-odds is above 0.
+///
+/// The evidence is per time, not per scan: consecutive sweeps of a 10 Hz sensor see nearly the
+/// same thing from nearly the same place, and counted whole they let the last half second decide
+/// a cell (every sweep of seed 23's first 30 s: impassable recall 0.961 counted whole, 0.968 per
+/// time; walkers crossing seed 21's drive left 5 ghost cells, now none).
 struct FusionConfig {
   TraversabilityConfig layers;
   double local_side_m = 40.0;  ///< side of the rolling local map around the last sensor position
@@ -36,6 +42,10 @@ struct FusionConfig {
   float miss_log_odds = -0.7f;
   float min_log_odds = -2.0f;
   float max_log_odds = 3.5f;
+  /// hit_log_odds and miss_log_odds are for scans this far apart (s): a scan stamped dt after
+  /// the previous one adds min(1, dt / evidence_period_s) of them. Scans without increasing
+  /// stamps (and evidence_period_s = 0) count whole.
+  double evidence_period_s = 0.5;
   int min_free_ground_points = 3;
   /// Every n-th return's ray is traced for see-through evidence (0: none).
   int see_through_stride = 4;
@@ -104,13 +114,14 @@ class TerrainMap {
   TerrainMap(TerrainMap&&) noexcept;
   TerrainMap& operator=(TerrainMap&&) noexcept;
 
-  /// One scan in its lidar frame at pose T_map_lidar: ground segmentation, then add_points.
-  /// Empty or all-invalid scans change nothing.
+  /// One scan in its lidar frame at pose T_map_lidar, stamped scan.stamp_s: ground segmentation,
+  /// then add_points. Empty or all-invalid scans change nothing.
   FusionUpdate add_scan(const PointCloud& scan, const SensorModel& sensor, const Pose& T_map_lidar);
-  /// Returns already in the map frame (z up) with their ground flags, seen from sensor_m.
-  /// Non-finite points are skipped.
+  /// Returns already in the map frame (z up) with their ground flags, seen from sensor_m at
+  /// stamp_s (s; NaN: unknown, the scan's evidence counts whole). Non-finite points are skipped.
   FusionUpdate add_points(std::span<const Eigen::Vector3d> points_m,
-                          std::span<const std::uint8_t> is_ground, const Eigen::Vector3d& sensor_m);
+                          std::span<const std::uint8_t> is_ground, const Eigen::Vector3d& sensor_m,
+                          double stamp_s = std::numeric_limits<double>::quiet_NaN());
 
   /// The layers (names of terrain::layer, NaN = unknown) on a square of side side_m centred on
   /// center_m, cells on multiples of the cell side.
