@@ -85,7 +85,7 @@ Trajectory read_poses(const std::string& path, bool& by_index) {
 
 struct SequenceResult {
   Grid2D map;
-  std::size_t frames = 0, skipped = 0;
+  std::size_t frames = 0, skipped = 0, deskewed = 0;
   std::string placed_by, sensor;
   Trajectory path;
   double update_ms = 0;  ///< map updates only (segmentation included), summed
@@ -113,6 +113,22 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
   std::unique_ptr<odometry::LidarOdometry> odo;
   std::optional<SensorModel> sensor;
   double last_stamp = -1e300;
+  struct Placed {
+    PointCloud cloud;
+    Pose T;
+  };
+  std::optional<Placed> pending;
+  const auto fuse = [&](Placed& p, const std::optional<Pose>& T_next, double dt_s) {
+    if (p.cloud.fields.time && T_next) {
+      const auto motion = odometry::SweepMotion::constant_velocity(p.T.inverse() * *T_next, dt_s);
+      p.cloud = odometry::deskew(p.cloud, odometry::point_times(p.cloud, {}), motion);
+      ++r.deskewed;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    map.add_scan(p.cloud, *sensor, p.T);
+    r.update_ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
     if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
@@ -140,17 +156,22 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
       ++r.skipped;
       continue;
     }
-    const auto t0 = std::chrono::steady_clock::now();
-    map.add_scan(cloud, *sensor, *T);
-    r.update_ms +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    // Each sweep is fused once the next one is placed: with per-point times, it is re-projected
+    // onto its start pose at the constant velocity between the two poses (taken up to 1 s apart).
+    if (pending) {
+      const double dt_s = cloud.stamp_s - pending->cloud.stamp_s;
+      fuse(*pending, dt_s > 0 && dt_s <= 1.0 ? std::optional<Pose>(*T) : std::nullopt, dt_s);
+    }
+    pending = Placed{std::move(cloud), *T};
     ++r.frames;
-    const double stamp = cloud.stamp_s > last_stamp ? cloud.stamp_s : last_stamp + 1e-6;
+    const double stamp =
+        pending->cloud.stamp_s > last_stamp ? pending->cloud.stamp_s : last_stamp + 1e-6;
     last_stamp = stamp;
     r.path.push_back(stamp, *T);
     if (frame->index % 20 == 0)
       fmt::print(stderr, "\rframe {} ({:.0f} %)   ", frame->index, 100 * source->progress());
   }
+  if (pending) fuse(*pending, std::nullopt, 0.0);  // the last sweep, its motion unknown
   fmt::print(stderr, "\n");
   if (r.frames == 0)
     throw Error(o.input + ": no frame could be placed" +
@@ -198,6 +219,7 @@ void run(const TraversabilityOptions& o) {
     j["sensor"] = r.sensor;
     j["frames"] = r.frames;
     j["frames_without_pose"] = r.skipped;
+    j["frames_deskewed"] = r.deskewed;
     j["placed_by"] = r.placed_by;
     j["path_length_m"] = r.path.path_length_m();
     j["map_update_ms_per_frame"] = r.update_ms / double(r.frames);

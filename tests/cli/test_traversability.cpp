@@ -147,6 +147,8 @@ TEST(CliTraversability, SequenceFusedWithPosesRobotConfigAndGeoTiffs) {
   const auto j = check_outputs(out);
   EXPECT_EQ(j["input"], "sequence");
   EXPECT_EQ(j["frames"], 20);
+  // Every sweep but the last (its end pose unknown) de-skewed by the per-point times.
+  EXPECT_EQ(j["frames_deskewed"], 19);
   EXPECT_DOUBLE_EQ(j["robot"]["max_slope_deg"].get<double>(), 20.0);
   EXPECT_DOUBLE_EQ(j["robot"]["min_turn_radius_m"].get<double>(), 1.5);
   EXPECT_GT(j["cells_known"].get<int>(), 500);  // 727 measured (2 s of driving)
