@@ -1,6 +1,7 @@
 // The traversability map of one scan: a simulated VLP-16 frame of the off-road scene.
 #include <benchmark/benchmark.h>
 
+#include "fieldlidar/odometry/deskew.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/motion.hpp"
 #include "fieldlidar/sim/scenes.hpp"
@@ -50,3 +51,25 @@ static void BM_TerrainFuseOs1_64(benchmark::State& state) {
 }
 BENCHMARK(BM_TerrainFuseVlp16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TerrainFuseOs1_64)->Unit(benchmark::kMillisecond);
+
+// Every sweep (10 Hz) of a moving VLP-16, as `traversability` fuses a sequence: the sweep
+// de-skewed at the constant velocity to the next sweep's pose, then the map update.
+static void BM_TerrainFuseVlp16SweepDeskewed(benchmark::State& state) {
+  const sim::Scene scene = sim::make_terrain_scene({}, 11);
+  const SensorModel sensor = SensorModel::vlp16();
+  const sim::LidarSimulator lidar(scene, sensor);
+  const auto motion = sim::drive_scene_route(scene, 12.0);
+  std::vector<sim::SimFrame> frames;
+  for (double t = 1.0; t < 3.0; t += 0.1) frames.push_back(lidar.scan(t, motion.lidar_pose_fn()));
+  terrain::TerrainMap map;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto& f = frames[i++ % frames.size()];
+    const auto sweep = odometry::SweepMotion::constant_velocity(
+        f.T_world_lidar_start.inverse() * f.T_world_lidar_end, 0.1);
+    const PointCloud cloud = odometry::deskew(f.cloud, odometry::point_times(f.cloud, {}), sweep);
+    const auto u = map.add_scan(cloud, sensor, f.T_world_lidar_start);
+    benchmark::DoNotOptimize(u.cells_updated);
+  }
+}
+BENCHMARK(BM_TerrainFuseVlp16SweepDeskewed)->Unit(benchmark::kMillisecond);
