@@ -50,7 +50,8 @@ std::int32_t VoxelMap::find_or_add(const Key& k) {
     const std::int32_t slot = table_[i];
     if (slot != 0 && cells_[std::size_t(slot - 1)].key == k) return slot - 1;
     if (slot == 0) {
-      cells_.push_back({k, {}});
+      cells_.push_back({k, 0, Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()});
+      points_.resize(cells_.size() * capacity_);
       table_[i] = std::int32_t(cells_.size());
       return std::int32_t(cells_.size() - 1);
     }
@@ -72,6 +73,7 @@ void VoxelMap::rebuild_table(std::size_t capacity) {
 
 void VoxelMap::clear() {
   cells_.clear();
+  points_.clear();
   table_.clear();
 }
 
@@ -79,15 +81,21 @@ void VoxelMap::insert(std::span<const Eigen::Vector3f> points_world) {
   const float min2 = float(config_.min_point_spacing_m * config_.min_point_spacing_m);
   for (const auto& p : points_world) {
     if (!p.allFinite()) continue;
-    auto& v = cells_[std::size_t(find_or_add(key_of(p)))].points;
-    if (int(v.size()) >= config_.max_points_per_voxel) continue;
+    const auto c = std::size_t(find_or_add(key_of(p)));
+    auto& count = cells_[c].count;
+    if (count >= capacity_) continue;
+    Eigen::Vector3f* v = points_.data() + c * capacity_;
     bool near = false;
-    for (const auto& q : v)
-      if ((q - p).squaredNorm() < min2) {
+    for (std::uint32_t j = 0; j < count; ++j)
+      if ((v[j] - p).squaredNorm() < min2) {
         near = true;
         break;
       }
-    if (!near) v.push_back(p);
+    if (near) continue;
+    auto& cell = cells_[c];
+    cell.min = count == 0 ? p : Eigen::Vector3f(cell.min.cwiseMin(p));
+    cell.max = count == 0 ? p : Eigen::Vector3f(cell.max.cwiseMax(p));
+    v[count++] = p;
   }
 }
 
@@ -95,10 +103,19 @@ void VoxelMap::crop(const Eigen::Vector3d& centre_world) {
   const double r2 = config_.max_range_m * config_.max_range_m;
   const Eigen::Vector3f c = centre_world.cast<float>();
   const std::size_t before = cells_.size();
-  std::erase_if(cells_, [&](const Cell& cell) {
-    return cell.points.empty() || double((cell.points.front() - c).squaredNorm()) > r2;
-  });
-  if (cells_.size() != before) rebuild_table(4 * cells_.size());
+  std::size_t kept = 0;  // the voxels kept move to the front, in order, with their points
+  for (std::size_t i = 0; i < before; ++i) {
+    const Eigen::Vector3f* v = points_of(i);
+    if (cells_[i].count == 0 || double((v[0] - c).squaredNorm()) > r2) continue;
+    if (kept != i) {
+      cells_[kept] = cells_[i];
+      std::copy(v, v + cells_[i].count, points_.data() + kept * capacity_);
+    }
+    ++kept;
+  }
+  cells_.resize(kept);
+  points_.resize(kept * capacity_);
+  if (kept != before) rebuild_table(4 * kept);
 }
 
 std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
@@ -108,7 +125,9 @@ std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
   // farther than the k-th of them cannot hold a nearer point, nor can the ones after it.
   const int k = std::clamp(config_.neighbours, 1, 16);
   const float max2 = float(config_.max_neighbour_distance_m * config_.max_neighbour_distance_m);
-  std::array<std::pair<float, Eigen::Vector3f>, 16> best;
+  // The best so far, nearest first: squared distances and where the points are.
+  std::array<float, 16> best_d2;
+  std::array<const Eigen::Vector3f*, 16> best_p;
   int n = 0;
   const Key c = key_of(query);
   const float inv = inv_voxel_, side = 1.f / inv;
@@ -128,36 +147,50 @@ std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
         ((b & 4) ? face2[0] : 0.f) + ((b & 2) ? face2[1] : 0.f) + ((b & 1) ? face2[2] : 0.f), b};
   std::sort(order.begin(), order.end());
   for (const auto& [box2, b] : order) {
-    if (box2 > max2 || (n == k && box2 >= best[n - 1].first)) break;
+    if (box2 > max2 || (n == k && box2 >= best_d2[k - 1])) break;
     const std::int32_t cell =
         find({c.x + ((b & 4) ? s[0] : 0), c.y + ((b & 2) ? s[1] : 0), c.z + ((b & 1) ? s[2] : 0)});
     if (cell < 0) continue;
-    for (const auto& p : cells_[std::size_t(cell)].points) {
-      const float d2 = (p - query).squaredNorm();
-      if (d2 > max2 || (n == k && d2 >= best[n - 1].first)) continue;
-      int j = n < k ? n++ : n - 1;
-      while (j > 0 && best[j - 1].first > d2) {
-        best[j] = best[j - 1];
+    const Cell& vox = cells_[std::size_t(cell)];
+    if (n == k) {
+      // Per axis the bound's gap is at most that of any point inside (float subtraction and the
+      // sum below round monotonically), so the test below rejects every point it skips.
+      const Eigen::Vector3f gap =
+          (vox.min - query).cwiseMax(query - vox.max).cwiseMax(Eigen::Vector3f::Zero());
+      if (gap.squaredNorm() >= best_d2[k - 1]) continue;
+    }
+    const Eigen::Vector3f* v = points_of(std::size_t(cell));
+    for (std::uint32_t i = 0, m = vox.count; i < m; ++i) {
+      const float d2 = (v[i] - query).squaredNorm();
+      // Until k are found every point within max2 enters; then only one nearer than the k-th
+      // (which is within max2).
+      if (n < k ? d2 > max2 : d2 >= best_d2[k - 1]) continue;
+      int j = n < k ? n++ : k - 1;
+      while (j > 0 && best_d2[j - 1] > d2) {
+        best_d2[j] = best_d2[j - 1];
+        best_p[j] = best_p[j - 1];
         --j;
       }
-      best[j] = {d2, p};
+      best_d2[j] = d2;
+      best_p[j] = v + i;
     }
   }
-  out.clear();
-  for (int i = 0; i < n; ++i) out.push_back(best[i].second);
+  out.resize(std::size_t(n));
+  for (int i = 0; i < n; ++i) out[std::size_t(i)] = *best_p[std::size_t(i)];
   return out.size();
 }
 
 std::size_t VoxelMap::size() const {
   std::size_t n = 0;
-  for (const auto& cell : cells_) n += cell.points.size();
+  for (const auto& cell : cells_) n += cell.count;
   return n;
 }
 
 std::vector<Eigen::Vector3f> VoxelMap::points() const {
   std::vector<Eigen::Vector3f> out;
   out.reserve(size());
-  for (const auto& cell : cells_) out.insert(out.end(), cell.points.begin(), cell.points.end());
+  for (std::size_t c = 0; c < cells_.size(); ++c)
+    out.insert(out.end(), points_of(c), points_of(c) + cells_[c].count);
   return out;
 }
 
