@@ -11,19 +11,36 @@ namespace fieldlidar::odometry {
 
 namespace {
 
-/// Indices of the valid points of each ring, in scan order.
-std::vector<std::vector<std::uint32_t>> ring_lists(const PointCloud& cloud,
-                                                   std::span<const std::uint16_t> rings,
-                                                   std::span<const std::uint8_t> allowed) {
-  std::vector<std::vector<std::uint32_t>> lists;
+/// Indices of the valid points of each ring, in scan order: ring r's are
+/// index[start[r] .. start[r + 1]).
+struct RingLists {
+  std::vector<std::uint32_t> start, index;
+  std::size_t rings() const { return start.empty() ? 0 : start.size() - 1; }
+  std::span<const std::uint32_t> ring(std::size_t r) const {
+    return {index.data() + start[r], index.data() + start[r + 1]};
+  }
+};
+
+RingLists ring_lists(const PointCloud& cloud, std::span<const std::uint16_t> rings,
+                     std::span<const std::uint8_t> allowed) {
+  // Two passes (count, then place) instead of one growing list per ring.
+  RingLists out;
+  std::vector<std::uint32_t>& count = out.start;
+  std::vector<std::uint16_t> ring_of(cloud.size(), Point::kNoRing);
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const auto r = rings[i];
     if (r == Point::kNoRing || !cloud.points[i].is_valid()) continue;
     if (!allowed.empty() && !allowed[i]) continue;
-    if (r >= lists.size()) lists.resize(r + 1);
-    lists[r].push_back(std::uint32_t(i));
+    if (r + 2u > count.size()) count.resize(r + 2u, 0);
+    ++count[r + 1u];
+    ring_of[i] = r;
   }
-  return lists;
+  for (std::size_t r = 1; r < count.size(); ++r) count[r] += count[r - 1];
+  out.index.resize(count.empty() ? 0 : count.back());
+  std::vector<std::uint32_t> next(count.begin(), count.end());
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (ring_of[i] != Point::kNoRing) out.index[next[ring_of[i]]++] = std::uint32_t(i);
+  return out;
 }
 
 /// Curvature of each position of one ring, -1 where the window is short or unreliable.
@@ -34,7 +51,7 @@ struct RingScratch {
   std::vector<std::uint8_t> bad;
 };
 
-void ring_curvature(const PointCloud& cloud, const std::vector<std::uint32_t>& idx, int n,
+void ring_curvature(const PointCloud& cloud, std::span<const std::uint32_t> idx, int n,
                     const FeatureConfig* cfg, std::vector<float>& c, RingScratch& scratch) {
   const int m = int(idx.size());
   c.assign(m, -1.f);
@@ -119,7 +136,9 @@ std::vector<float> curvature(const PointCloud& cloud, std::span<const std::uint1
   std::vector<float> out(cloud.size(), -1.f);
   std::vector<float> c;
   RingScratch scratch;
-  for (const auto& idx : ring_lists(cloud, rings, {})) {
+  const RingLists lists = ring_lists(cloud, rings, {});
+  for (std::size_t r = 0; r < lists.rings(); ++r) {
+    const auto idx = lists.ring(r);
     ring_curvature(cloud, idx, neighbours, nullptr, c, scratch);
     for (std::size_t k = 0; k < idx.size(); ++k) out[idx[k]] = c[k];
   }
@@ -137,7 +156,9 @@ Features extract_features(const PointCloud& cloud, std::span<const std::uint16_t
   std::vector<std::uint64_t> order;
   std::vector<std::uint8_t> picked;
   RingScratch scratch;
-  for (const auto& idx : ring_lists(cloud, rings, allowed)) {
+  const RingLists lists = ring_lists(cloud, rings, allowed);
+  for (std::size_t r = 0; r < lists.rings(); ++r) {
+    const auto idx = lists.ring(r);
     ring_curvature(cloud, idx, n, &config, c, scratch);
     const int m = int(idx.size());
     picked.assign(m, 0);

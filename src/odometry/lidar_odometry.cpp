@@ -121,9 +121,14 @@ void LidarOdometry::register_features(const Features& features, const Pose& prio
   const std::size_t n = features.edges.size() + features.planes.size();
   double first_fraction = 1.0;
   bool ok = match_rounds(map_, features, T, result, &first_fraction);
+  result.prior_match_fraction = first_fraction;
   // A prior far off (a fast turn, skipped frames, a rough start in a saved map): few features
   // find a line or plane near them. Align on a coarse copy of the map first, then again.
-  if (config_.coarse_voxel_m > 0 && first_fraction < config_.coarse_below_fraction && n > 0) {
+  double used_fraction = first_fraction;
+  const bool unusual = typical_match_fraction_ < 0 ||
+                       first_fraction < config_.coarse_below_typical * typical_match_fraction_;
+  if (config_.coarse_voxel_m > 0 && first_fraction < config_.coarse_below_fraction && unusual &&
+      n > 0) {
     LocalMapConfig cc = config_.map;
     cc.voxel_m = config_.coarse_voxel_m;
     cc.max_neighbour_distance_m = 0.5 * config_.coarse_voxel_m;
@@ -132,16 +137,21 @@ void LidarOdometry::register_features(const Features& features, const Pose& prio
     cc.max_plane_distance_m = 2 * config_.map.max_plane_distance_m;
     const LocalMap coarse = LocalMap::from_cloud(map_.to_cloud(), cc);
     Pose Tc = prior;
-    if (match_rounds(coarse, features, Tc, result, nullptr)) {
+    OdometryResult scratch;  // the coarse alignment's diagnostics are not the frame's
+    if (match_rounds(coarse, features, Tc, scratch, nullptr)) {
       Pose Tf = Tc;
       double fraction = 0;
       OdometryResult retry = result;
-      if (match_rounds(map_, features, Tf, retry, &fraction) && fraction > first_fraction) {
+      if (match_rounds(map_, features, Tf, retry, &fraction) &&
+          fraction > first_fraction + config_.coarse_min_gain) {
         retry.warnings.push_back(fmt::format(
             "prior {:.2f} m / {:.1f} deg off: re-aligned on the coarse map",
             (Tf.translation() - prior.translation()).norm(),
             Eigen::AngleAxisd(Tf.linear() * prior.linear().transpose()).angle() * 180 / M_PI));
         result = std::move(retry);
+        result.prior_match_fraction = first_fraction;
+        result.coarse_realigned = true;
+        used_fraction = fraction;
         T = Tf;
         ok = true;
       }
@@ -156,6 +166,10 @@ void LidarOdometry::register_features(const Features& features, const Pose& prio
     return;
   }
   result.T_world_lidar = T;
+  typical_match_fraction_ =
+      typical_match_fraction_ < 0
+          ? used_fraction
+          : typical_match_fraction_ + 0.2 * (used_fraction - typical_match_fraction_);
 }
 
 bool LidarOdometry::match_rounds(const LocalMap& map, const Features& features, Pose& T,

@@ -36,9 +36,9 @@ std::int32_t VoxelMap::find(const Key& k) const {
   if (table_.empty()) return -1;
   const std::size_t mask = table_.size() - 1;
   for (std::size_t i = hash_key(k.x, k.y, k.z) & mask;; i = (i + 1) & mask) {
-    const std::int32_t slot = table_[i];
-    if (slot == 0) return -1;
-    if (cells_[std::size_t(slot - 1)].key == k) return slot - 1;
+    const Slot& slot = table_[i];
+    if (slot.cell == 0) return -1;
+    if (slot.key == k) return slot.cell - 1;
   }
 }
 
@@ -47,11 +47,12 @@ std::int32_t VoxelMap::find_or_add(const Key& k) {
     rebuild_table(std::max<std::size_t>(64, 4 * cells_.size()));
   const std::size_t mask = table_.size() - 1;
   for (std::size_t i = hash_key(k.x, k.y, k.z) & mask;; i = (i + 1) & mask) {
-    const std::int32_t slot = table_[i];
-    if (slot != 0 && cells_[std::size_t(slot - 1)].key == k) return slot - 1;
-    if (slot == 0) {
-      cells_.push_back({k, {}});
-      table_[i] = std::int32_t(cells_.size());
+    Slot& slot = table_[i];
+    if (slot.cell != 0 && slot.key == k) return slot.cell - 1;
+    if (slot.cell == 0) {
+      cells_.push_back({k, 0, Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()});
+      coords_.resize(cells_.size() * 3 * stride_, 0.f);
+      slot = {k, std::int32_t(cells_.size())};
       return std::int32_t(cells_.size() - 1);
     }
   }
@@ -60,18 +61,19 @@ std::int32_t VoxelMap::find_or_add(const Key& k) {
 void VoxelMap::rebuild_table(std::size_t capacity) {
   std::size_t size = 64;
   while (size < capacity) size *= 2;
-  table_.assign(size, 0);
+  table_.assign(size, Slot{});
   const std::size_t mask = size - 1;
   for (std::size_t c = 0; c < cells_.size(); ++c) {
     const Key& k = cells_[c].key;
     std::size_t i = hash_key(k.x, k.y, k.z) & mask;
-    while (table_[i] != 0) i = (i + 1) & mask;
-    table_[i] = std::int32_t(c + 1);
+    while (table_[i].cell != 0) i = (i + 1) & mask;
+    table_[i] = {k, std::int32_t(c + 1)};
   }
 }
 
 void VoxelMap::clear() {
   cells_.clear();
+  coords_.clear();
   table_.clear();
 }
 
@@ -79,15 +81,25 @@ void VoxelMap::insert(std::span<const Eigen::Vector3f> points_world) {
   const float min2 = float(config_.min_point_spacing_m * config_.min_point_spacing_m);
   for (const auto& p : points_world) {
     if (!p.allFinite()) continue;
-    auto& v = cells_[std::size_t(find_or_add(key_of(p)))].points;
-    if (int(v.size()) >= config_.max_points_per_voxel) continue;
+    const auto c = std::size_t(find_or_add(key_of(p)));
+    auto& cell = cells_[c];
+    const std::uint32_t count = cell.count;
+    if (count >= capacity_) continue;
+    float* x = coordinates_of(c);
+    float *y = x + stride_, *z = y + stride_;
     bool near = false;
-    for (const auto& q : v)
-      if ((q - p).squaredNorm() < min2) {
+    for (std::uint32_t j = 0; j < count; ++j)
+      if ((Eigen::Vector3f(x[j], y[j], z[j]) - p).squaredNorm() < min2) {
         near = true;
         break;
       }
-    if (!near) v.push_back(p);
+    if (near) continue;
+    cell.min = count == 0 ? p : Eigen::Vector3f(cell.min.cwiseMin(p));
+    cell.max = count == 0 ? p : Eigen::Vector3f(cell.max.cwiseMax(p));
+    x[count] = p.x();
+    y[count] = p.y();
+    z[count] = p.z();
+    cell.count = count + 1;
   }
 }
 
@@ -95,10 +107,22 @@ void VoxelMap::crop(const Eigen::Vector3d& centre_world) {
   const double r2 = config_.max_range_m * config_.max_range_m;
   const Eigen::Vector3f c = centre_world.cast<float>();
   const std::size_t before = cells_.size();
-  std::erase_if(cells_, [&](const Cell& cell) {
-    return cell.points.empty() || double((cell.points.front() - c).squaredNorm()) > r2;
-  });
-  if (cells_.size() != before) rebuild_table(4 * cells_.size());
+  std::size_t kept = 0;  // the voxels kept move to the front, in order, with their points
+  const std::size_t block = 3 * stride_;
+  for (std::size_t i = 0; i < before; ++i) {
+    const float* v = coordinates_of(i);
+    if (cells_[i].count == 0 ||
+        double((Eigen::Vector3f(v[0], v[stride_], v[2 * stride_]) - c).squaredNorm()) > r2)
+      continue;
+    if (kept != i) {
+      cells_[kept] = cells_[i];
+      std::copy(v, v + block, coordinates_of(kept));
+    }
+    ++kept;
+  }
+  cells_.resize(kept);
+  coords_.resize(kept * block);
+  if (kept != before) rebuild_table(4 * kept);
 }
 
 std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
@@ -108,7 +132,9 @@ std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
   // farther than the k-th of them cannot hold a nearer point, nor can the ones after it.
   const int k = std::clamp(config_.neighbours, 1, 16);
   const float max2 = float(config_.max_neighbour_distance_m * config_.max_neighbour_distance_m);
-  std::array<std::pair<float, Eigen::Vector3f>, 16> best;
+  // The best so far, nearest first: squared distances and where the points are.
+  std::array<float, 16> best_d2;
+  std::array<const float*, 16> best_x;  // a point's x (y and z stride_ and 2 stride_ on)
   int n = 0;
   const Key c = key_of(query);
   const float inv = inv_voxel_, side = 1.f / inv;
@@ -128,36 +154,65 @@ std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
         ((b & 4) ? face2[0] : 0.f) + ((b & 2) ? face2[1] : 0.f) + ((b & 1) ? face2[2] : 0.f), b};
   std::sort(order.begin(), order.end());
   for (const auto& [box2, b] : order) {
-    if (box2 > max2 || (n == k && box2 >= best[n - 1].first)) break;
+    if (box2 > max2 || (n == k && box2 >= best_d2[k - 1])) break;
     const std::int32_t cell =
         find({c.x + ((b & 4) ? s[0] : 0), c.y + ((b & 2) ? s[1] : 0), c.z + ((b & 1) ? s[2] : 0)});
     if (cell < 0) continue;
-    for (const auto& p : cells_[std::size_t(cell)].points) {
-      const float d2 = (p - query).squaredNorm();
-      if (d2 > max2 || (n == k && d2 >= best[n - 1].first)) continue;
-      int j = n < k ? n++ : n - 1;
-      while (j > 0 && best[j - 1].first > d2) {
-        best[j] = best[j - 1];
-        --j;
+    const Cell& vox = cells_[std::size_t(cell)];
+    if (n == k) {
+      // Per axis the bound's gap is at most that of any point inside (float subtraction and the
+      // sum below round monotonically), so the test below rejects every point it skips.
+      const Eigen::Vector3f gap =
+          (vox.min - query).cwiseMax(query - vox.max).cwiseMax(Eigen::Vector3f::Zero());
+      if (gap.squaredNorm() >= best_d2[k - 1]) continue;
+    }
+    // Distances four points at a time (the same operations as (p - query).squaredNorm() per
+    // lane), then the list kept as one point after the other.
+    const float* x = coordinates_of(std::size_t(cell));
+    const float *y = x + stride_, *z = y + stride_;
+    for (std::uint32_t i0 = 0, m = vox.count; i0 < m; i0 += 4) {
+      const Eigen::Array4f dx = Eigen::Array4f::Map(x + i0) - query.x();
+      const Eigen::Array4f dy = Eigen::Array4f::Map(y + i0) - query.y();
+      const Eigen::Array4f dz = Eigen::Array4f::Map(z + i0) - query.z();
+      const Eigen::Array4f d2s = (dx * dx + dy * dy) + dz * dz;
+      for (std::uint32_t i = i0, e = std::min(m, i0 + 4); i < e; ++i) {
+        const float d2 = d2s[i - i0];
+        // Until k are found every point within max2 enters; then only one nearer than the k-th
+        // (which is within max2).
+        if (n < k ? d2 > max2 : d2 >= best_d2[k - 1]) continue;
+        int j = n < k ? n++ : k - 1;
+        while (j > 0 && best_d2[j - 1] > d2) {
+          best_d2[j] = best_d2[j - 1];
+          best_x[j] = best_x[j - 1];
+          --j;
+        }
+        best_d2[j] = d2;
+        best_x[j] = x + i;
       }
-      best[j] = {d2, p};
     }
   }
-  out.clear();
-  for (int i = 0; i < n; ++i) out.push_back(best[i].second);
+  out.resize(std::size_t(n));
+  for (int i = 0; i < n; ++i) {
+    const float* p = best_x[std::size_t(i)];
+    out[std::size_t(i)] = {p[0], p[stride_], p[2 * stride_]};
+  }
   return out.size();
 }
 
 std::size_t VoxelMap::size() const {
   std::size_t n = 0;
-  for (const auto& cell : cells_) n += cell.points.size();
+  for (const auto& cell : cells_) n += cell.count;
   return n;
 }
 
 std::vector<Eigen::Vector3f> VoxelMap::points() const {
   std::vector<Eigen::Vector3f> out;
   out.reserve(size());
-  for (const auto& cell : cells_) out.insert(out.end(), cell.points.begin(), cell.points.end());
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    const float* x = coordinates_of(c);
+    for (std::uint32_t i = 0; i < cells_[c].count; ++i)
+      out.emplace_back(x[i], x[i + stride_], x[i + 2 * stride_]);
+  }
   return out;
 }
 

@@ -159,6 +159,8 @@ inline void apply_env(OdometryConfig& c) {
   num("REASSOC", c.reassociate_m);
   num("COARSE", c.coarse_voxel_m);
   num("COARSEFRAC", c.coarse_below_fraction);
+  num("COARSEGAIN", c.coarse_min_gain);
+  num("COARSETYP", c.coarse_below_typical);
   num("SPREAD", c.map.min_plane_spread);
   num("CURV", c.features.curvature_threshold);
   integer("NEDGE", c.features.edges_per_sector);

@@ -2,6 +2,7 @@
 /// \file seed 002, step e and LOAM's mapping stage: edge and planar points in the world frame in
 /// a voxel hash bounded in memory, with the line / plane around a query point.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -47,7 +48,10 @@ struct LocalMapConfig {
 class VoxelMap {
  public:
   explicit VoxelMap(const LocalMapConfig& config = {})
-      : config_(config), inv_voxel_(float(1.0 / config.voxel_m)) {}
+      : config_(config),
+        inv_voxel_(float(1.0 / config.voxel_m)),
+        capacity_(std::size_t(std::max(0, config.max_points_per_voxel))),
+        stride_((capacity_ + 3) / 4 * 4) {}
   void insert(std::span<const Eigen::Vector3f> points_world);
   /// Removes the voxels farther than max_range_m from `centre_world`.
   void crop(const Eigen::Vector3d& centre_world);
@@ -66,7 +70,10 @@ class VoxelMap {
   };
   struct Cell {
     Key key;
-    std::vector<Eigen::Vector3f> points;
+    std::uint32_t count = 0;  ///< points held (coordinates_of the voxel)
+    /// Bounds of the points held: a search skips the voxel when they are no nearer than its
+    /// k-th point so far (no point inside can be nearer, so the result is the same).
+    Eigen::Vector3f min, max;
   };
   Key key_of(const Eigen::Vector3f& p) const;
   /// Index of the voxel in cells_, -1 when there is none.
@@ -75,12 +82,28 @@ class VoxelMap {
   std::int32_t find_or_add(const Key& k);
   /// The open-addressing table (linear probing, power-of-two size) rebuilt from cells_.
   void rebuild_table(std::size_t capacity);
+  /// The x of voxel `cell`'s points; y at + stride_, z at + 2 stride_.
+  float* coordinates_of(std::size_t cell) { return coords_.data() + 3 * stride_ * cell; }
+  const float* coordinates_of(std::size_t cell) const {
+    return coords_.data() + 3 * stride_ * cell;
+  }
   LocalMapConfig config_;
-  float inv_voxel_ = 1.f;  ///< 1 / voxel_m
+  float inv_voxel_ = 1.f;     ///< 1 / voxel_m
+  std::size_t capacity_ = 0;  ///< max_points_per_voxel
+  std::size_t stride_ = 0;    ///< capacity_ rounded up to 4 (whole packets of 4 floats)
   std::vector<Cell> cells_;
-  /// cells_ index + 1 per slot (0 = empty); at most half full. A flat table: a look-up costs
-  /// one hash and usually one probe (std::unordered_map cost a third of the sweep's time).
-  std::vector<std::int32_t> table_;
+  /// Voxel c's points from coords_[3 stride_ c]: stride_ x, then stride_ y, then stride_ z (the
+  /// unused slots 0). One flat block, so a neighbour search reads a voxel without following a
+  /// pointer, and its distances four points at a time.
+  std::vector<float> coords_;
+  /// A voxel's key and cells_ index + 1 (0 = empty slot); at most half full. A flat table: a
+  /// look-up costs one hash and usually one probe, in one cache line (std::unordered_map cost a
+  /// third of the sweep's time).
+  struct Slot {
+    Key key{0, 0, 0};
+    std::int32_t cell = 0;
+  };
+  std::vector<Slot> table_;
 };
 
 /// The local map of LOAM's mapping stage: an edge and a planar voxel map.
