@@ -92,7 +92,11 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       e = config_.evidence_decay * e + score[i];
     }
     if (score[i] > 0 || prior > 0) {
-      out.legs.push_back({cand[i], score[i], track});
+      // Reported legs need more than the tracker's input: leg-shaped clutter passes the
+      // classifier only just, and its leg tracks gather little evidence.
+      if (!dc.classifier || score[i] > config_.leg_report_margin ||
+          prior > config_.leg_report_evidence)
+        out.legs.push_back({cand[i], score[i], track});
       // A leg on occupied space is no person's leg: the occupancy grid forbids tracks there.
       const auto [b, e] = cand_range[i];
       if (occupancy_.is_static(std::span(world).subspan(b, e - b))) continue;

@@ -59,6 +59,8 @@ void StaticBackground::add(std::span<const Eigen::Vector2d> points, double weigh
 
 bool StaticBackground::is_static(std::span<const Eigen::Vector2d> arc) const {
   if (scans_ < config_.warmup_scans || arc.empty()) return false;
+  // A grid that never learns (rate 0) holds no background.
+  if (!(full() > 0)) return false;
   const double needed = config_.static_occupancy * full();
   std::size_t on_background = 0;
   for (const auto& p : arc) {
