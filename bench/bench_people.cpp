@@ -132,8 +132,10 @@ void pipeline_2d(benchmark::State& state, bool matching_only,
                  const char* relative_bag = "legs_2d/negative_2.bag",
                  const char* topic = "/right_scan") {
   const auto bag = std::filesystem::path(FIELDLIDAR_DEFAULT_DATA_DIR) / relative_bag;
-  const auto model = std::filesystem::path(__FILE__).parent_path().parent_path() / "config" /
-                     "legs_2d_classifier.yaml";
+  // The source tree's config folder, compiled in (__FILE__ is relative under ccache's
+  // CCACHE_BASEDIR, so the benchmark ran only from the build folder).
+  const auto model =
+      std::filesystem::path(FIELDLIDAR_SOURCE_CONFIG_DIR) / "legs_2d_classifier.yaml";
   if (!std::filesystem::exists(bag) || !std::filesystem::exists(model)) {
     state.SkipWithError("legs_2d data or config/legs_2d_classifier.yaml absent");
     return;

@@ -210,6 +210,13 @@ void add_eval_tracking_command(CLI::App& app) {
   cmd->add_option("--sensor", o->legs.sensor, "Sensor preset for 3D input without metadata");
   cmd->add_flag("--still", o->legs.still, "2D: the sensor does not move");
   cmd->add_flag("--no-classifier", o->legs.no_classifier, "2D: shape tests only");
+  cmd->add_option(
+         "--compact-occupancy", o->legs.compact_occupancy,
+         "2D: weight (0..1) of a leg-sized segment's returns in the occupancy grid where no person "
+         "track lives; 0 keeps people who stand while the robot drives past trackable, and "
+         "leg-shaped furniture too")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_flag("--seed-only", o->legs.seed_only, "Only the seed's tests");
   cmd->callback([o] { run_eval_tracking(*o); });
 }

@@ -38,6 +38,7 @@ struct LegsOptions {
   std::vector<double> truth_wedge;  ///< bearing min, max (deg), range max (m)
   bool seed_only = false;
   bool still = false;
+  double compact_occupancy = 1.0;
   bool no_classifier = false;
   bool force = false;
 };
@@ -57,7 +58,8 @@ void run_legs(const LegsOptions& o) {
                      .sensor = o.sensor,
                      .seed_only = o.seed_only,
                      .still = o.still,
-                     .no_classifier = o.no_classifier});
+                     .no_classifier = o.no_classifier,
+                     .compact_occupancy = o.compact_occupancy});
 
   // Annotated legs per scan. The annotation bags record one PoseArray per scan, in step, with
   // stamps of their own: they are paired with the scans by order.
@@ -159,6 +161,13 @@ void add_legs_command(CLI::App& app) {
   cmd->add_flag("--no-classifier", o->no_classifier,
                 "2D: no learned leg classifier, shape tests only (without this flag a missing "
                 "shipped classifier is an error)");
+  cmd->add_option(
+         "--compact-occupancy", o->compact_occupancy,
+         "2D: weight (0..1) of a leg-sized segment's returns in the occupancy grid where no person "
+         "track lives; 0 keeps people who stand while the robot drives past trackable, and "
+         "leg-shaped furniture too")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_flag("--force", o->force, "Overwrite the output file");
   cmd->callback([o] { run_legs(*o); });
 }

@@ -47,7 +47,14 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   std::vector<Eigen::Vector2d> cand, cand_world;
   std::vector<std::pair<std::size_t, std::size_t>> cand_range;
   std::vector<double> score;
-  for (const auto& [b, e] : split_by_jump(pts, dc.segment_jump_m)) {
+  // Leg-sized segments (compact blobs: a leg, a post, a person's two legs merged) teach the
+  // world occupancy grid with their own weight (compact_occupancy_weight).
+  std::vector<char> compact(pts.size(), 0);
+  const auto segments = split_by_jump(pts, dc.segment_jump_m);
+  for (const auto& [b, e] : segments)
+    if ((pts[e - 1] - pts[b]).norm() <= config_.compact_chord_max_m)
+      std::fill(compact.begin() + std::ptrdiff_t(b), compact.begin() + std::ptrdiff_t(e), char(1));
+  for (const auto& [b, e] : segments) {
     double s = 0;
     if (dc.classifier) {
       s = dc.classifier->score(segment_features(pts, b, e));
@@ -85,7 +92,11 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       e = config_.evidence_decay * e + score[i];
     }
     if (score[i] > 0 || prior > 0) {
-      out.legs.push_back({cand[i], score[i], track});
+      // Reported legs need more than the tracker's input: leg-shaped clutter passes the
+      // classifier only just, and its leg tracks gather little evidence.
+      if (!dc.classifier || score[i] > config_.leg_report_margin ||
+          prior > config_.leg_report_evidence)
+        out.legs.push_back({cand[i], score[i], track});
       // A leg on occupied space is no person's leg: the occupancy grid forbids tracks there.
       const auto [b, e] = cand_range[i];
       if (occupancy_.is_static(std::span(world).subspan(b, e - b))) continue;
@@ -131,17 +142,21 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     std::fill(person_point.begin() + std::ptrdiff_t(b), person_point.begin() + std::ptrdiff_t(e),
               char(1));
   }
-  std::vector<Eigen::Vector2d> bg_world, bg_sensor;
+  const double body2 = config_.body_range_max_m * config_.body_range_max_m;
+  std::vector<Eigen::Vector2d> bg_world, bg_sensor, body_sensor, compact_world;
   bg_world.reserve(pts.size());
-  for (std::size_t k = 0; k < pts.size(); ++k)
-    if (!person_point[k]) {
-      bg_world.push_back(world[k]);
-      bg_sensor.push_back(pts[k]);
-    }
-  world_background_.update(bg_world);
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    if (person_point[k]) continue;
+    bg_sensor.push_back(pts[k]);
+    if (pts[k].squaredNorm() <= body2) body_sensor.push_back(pts[k]);
+    (compact[k] ? compact_world : bg_world).push_back(world[k]);
+  }
   occupancy_.update(bg_world);
+  occupancy_.add(compact_world, config_.compact_occupancy_weight);
+  bg_world.insert(bg_world.end(), compact_world.begin(), compact_world.end());
+  world_background_.update(bg_world);
   if (moving_frame) sensor_occupancy_.update(bg_sensor);
-  if (moving_frame) sensor_background_.update(bg_sensor);
+  if (moving_frame) sensor_background_.update(body_sensor);
   return out;
 }
 

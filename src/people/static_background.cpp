@@ -9,48 +9,68 @@ StaticBackground::StaticBackground(const StaticBackgroundConfig& c) : config_(c)
   side_ = std::max(1, int(std::ceil(2 * c.half_extent_m / c.cell_m)));
   occupancy_.assign(std::size_t(side_) * std::size_t(side_), 0.f);
   stamp_.assign(occupancy_.size(), 0);
+  key_.assign(occupancy_.size(), {kNoCell, kNoCell});
 }
 
-int StaticBackground::index(const Eigen::Vector2d& p) const {
-  const int ix = int(std::floor((p.x() + config_.half_extent_m) / config_.cell_m));
-  const int iy = int(std::floor((p.y() + config_.half_extent_m) / config_.cell_m));
-  if (ix < 0 || iy < 0 || ix >= side_ || iy >= side_) return -1;
-  return iy * side_ + ix;
+StaticBackground::Cell StaticBackground::cell_of(const Eigen::Vector2d& p) const {
+  return {int(std::floor(p.x() / config_.cell_m)), int(std::floor(p.y() / config_.cell_m))};
 }
 
-double StaticBackground::value(int i) const {
-  const auto age = std::uint32_t(scans_) - stamp_[std::size_t(i)];
-  return double(occupancy_[std::size_t(i)]) * std::pow(1.0 - config_.rate, double(age));
+std::size_t StaticBackground::slot(const Cell& c) const {
+  // The grid wraps around: a cell shares its slot with the cells 2 * half_extent_m away, and
+  // the slot remembers which of them it holds.
+  const auto wrap = [&](int i) { return std::size_t(((i % side_) + side_) % side_); };
+  return wrap(c[1]) * std::size_t(side_) + wrap(c[0]);
+}
+
+double StaticBackground::value(const Cell& c) const {
+  const std::size_t i = slot(c);
+  if (key_[i] != c) return 0.0;
+  const auto age = std::uint32_t(scans_) - stamp_[i];
+  return double(occupancy_[i]) * std::pow(1.0 - config_.rate, double(age));
+}
+
+double StaticBackground::full() const {
+  // Occupancy of a cell hit in every scan since the start (1 - (1-a)^n).
+  return 1.0 - std::pow(1.0 - config_.rate, double(scans_));
 }
 
 void StaticBackground::update(std::span<const Eigen::Vector2d> points) {
   ++scans_;
+  add(points, 1.0);
+}
+
+void StaticBackground::add(std::span<const Eigen::Vector2d> points, double weight) {
   // Each cell decays by (1 - rate) per scan; the decay is applied lazily when a cell is touched
-  // (stamp_ = the scan of its last update), and a cell counts once per scan.
+  // (stamp_ = the scan of its last update), and a cell counts once per scan. A slot taken by a
+  // new cell (the old one lies 2 * half_extent_m away, behind the sensor) starts empty.
   for (const auto& p : points) {
-    const int i = p.allFinite() ? index(p) : -1;
-    if (i < 0 || stamp_[std::size_t(i)] == std::uint32_t(scans_)) continue;
-    occupancy_[std::size_t(i)] = float(value(i) + config_.rate);
-    stamp_[std::size_t(i)] = std::uint32_t(scans_);
+    if (!p.allFinite() || std::abs(p.x()) > kMaxCoordinate_m || std::abs(p.y()) > kMaxCoordinate_m)
+      continue;
+    const Cell c = cell_of(p);
+    const std::size_t i = slot(c);
+    if (key_[i] == c && stamp_[i] == std::uint32_t(scans_)) continue;
+    const double before = value(c);
+    key_[i] = c;
+    occupancy_[i] = float(before + weight * config_.rate);
+    stamp_[i] = std::uint32_t(scans_);
   }
 }
 
 bool StaticBackground::is_static(std::span<const Eigen::Vector2d> arc) const {
   if (scans_ < config_.warmup_scans || arc.empty()) return false;
-  // Occupancy relative to a cell hit in every scan since the start (1 - (1-a)^n).
-  const double full = 1.0 - std::pow(1.0 - config_.rate, double(scans_));
+  // A grid that never learns (rate 0) holds no background.
+  if (!(full() > 0)) return false;
+  const double needed = config_.static_occupancy * full();
   std::size_t on_background = 0;
   for (const auto& p : arc) {
-    const int i = index(p);
-    if (i < 0) continue;
-    const int ix = i % side_, iy = i / side_;
+    if (!p.allFinite() || std::abs(p.x()) > kMaxCoordinate_m || std::abs(p.y()) > kMaxCoordinate_m)
+      continue;
+    const Cell c = cell_of(p);
     double best = 0;
     for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int x = ix + dx, y = iy + dy;
-        if (x >= 0 && y >= 0 && x < side_ && y < side_) best = std::max(best, value(y * side_ + x));
-      }
-    if (best / full >= config_.static_occupancy) ++on_background;
+      for (int dx = -1; dx <= 1; ++dx) best = std::max(best, value({c[0] + dx, c[1] + dy}));
+    if (best >= needed) ++on_background;
   }
   return double(on_background) >= config_.static_fraction * double(arc.size());
 }

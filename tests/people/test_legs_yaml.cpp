@@ -67,8 +67,23 @@ TEST(StaticBackground, StillObjectsBecomeBackgroundWalkersDoNot) {
   EXPECT_TRUE(bg.is_static(post));
   EXPECT_FALSE(bg.is_static(std::vector<Eigen::Vector2d>{{-3.0 + 0.1 * 39, 2.0}}));
   EXPECT_FALSE(bg.is_static(std::vector<Eigen::Vector2d>{{5.0, 5.0}}));
-  // Out of the grid: never background.
-  EXPECT_FALSE(bg.is_static(std::vector<Eigen::Vector2d>{{50.0, 0.0}}));
+  // A cell never hit (it shares its slot with the post's cell 40 m away): not background.
+  EXPECT_FALSE(bg.is_static(std::vector<Eigen::Vector2d>{{42.0, 1.0}}));
+}
+
+// The grid rolls with the sensor: a post 60 m from the origin (outside the first 40 m square)
+// becomes background, and the cells it reuses forget what they held before.
+TEST(StaticBackground, GridFollowsTheSensorFarFromTheOrigin) {
+  StaticBackground bg;
+  const std::vector<Eigen::Vector2d> near_post{{2.0, 1.0}}, far_post{{62.0, 1.0}};
+  for (int k = 0; k < 40; ++k) bg.update(near_post);
+  EXPECT_TRUE(bg.is_static(near_post));
+  EXPECT_FALSE(bg.is_static(far_post));
+  for (int k = 0; k < 200; ++k) bg.update(far_post);
+  EXPECT_TRUE(bg.is_static(far_post));
+  // 62 m and 22 m share a slot (40 m grid); 2 m was decayed and is not overwritten.
+  EXPECT_FALSE(bg.is_static(std::vector<Eigen::Vector2d>{{22.0, 1.0}}));
+  EXPECT_FALSE(bg.is_static(std::vector<Eigen::Vector2d>{{-1e7, 0.0}}));
 }
 
 }  // namespace

@@ -43,13 +43,13 @@ struct TrackingScores {
   ClearMotCounts tuned, held_out, whole;
 };
 
-TrackingScores score_tracking_bag() {
+TrackingScores score_tracking_bag(const LegPipeline2DConfig& config) {
   const auto bag = test::data_file("legs_2d_tracking/general_tracking_moving_1.bag");
   const auto truth = io::read_person_annotations(bag, "/scan", "/ground_truth_people_tracks");
   io::SourceOptions so;
   so.topic = "/scan";
   auto src = io::FrameSource::open(bag, so);
-  LegPipeline2D pipeline(shipped());
+  LegPipeline2D pipeline(config);
   ClearMotScorer tuned, held_out, whole;
   auto wedge = [](const Eigen::Vector2d& p) { return in_bearing_wedge(p, -80, 12, 1e9); };
   while (auto f = src->next()) {
@@ -76,27 +76,50 @@ void print(const char* name, const ClearMotCounts& c) {
       c.matches ? c.motp_m() : 0.0);
 }
 
-// Measured: scans 0-436 37 of 133 matched, 5 false persons, 0 id switches, MOTA 0.241, recall
-// 0.278, MOTP 0.10 m; scans 437-872 no false person. (main before the joint tracker: 0 of 133.)
-TEST(PeopleTrackingReal, MovingRobotBenchmarkBag) {
-  FIELDLIDAR_REQUIRE_DATA("legs_2d_tracking/general_tracking_moving_1.bag");
-  const auto s = score_tracking_bag();
+void print(const TrackingScores& s) {
   print("scans 0-436 (tuned)", s.tuned);
   print("scans 437-872", s.held_out);
   print("whole bag", s.whole);
+}
+
+// The shipped settings. Measured: 2 of 133 matched, 1 false person, MOTA 0.008 (scans 0-436);
+// no false person on scans 437-872. The 37 matches (MOTA 0.241) measured before came from a
+// background grid fixed around the start, which the robot leaves at scan ~230: from there on
+// nothing was occupied space. In a grid that follows the robot the occupancy grid takes a
+// standing person within 2-3 scans, as it takes furniture (see compact_occupancy_weight).
+TEST(PeopleTrackingReal, MovingRobotBenchmarkBag) {
+  FIELDLIDAR_REQUIRE_DATA("legs_2d_tracking/general_tracking_moving_1.bag");
+  const auto s = score_tracking_bag(shipped());
+  print(s);
   EXPECT_EQ(s.whole.truth, 133u);
   EXPECT_EQ(s.tuned.truth, 133u);
-  EXPECT_GE(s.whole.mota(), 0.20);
-  EXPECT_GE(s.whole.recall(), 0.25);
-  EXPECT_LE(s.whole.false_positives_per_frame(), 0.01);
-  EXPECT_LE(s.whole.id_switches, 1u);
-  EXPECT_LT(s.whole.motp_m(), 0.15);
-  EXPECT_LE(s.held_out.false_positives, 2u);
+  EXPECT_GE(s.whole.matches, 2u);
+  EXPECT_LE(s.whole.false_positives, 2u);
+  EXPECT_EQ(s.whole.id_switches, 0u);
+  EXPECT_EQ(s.held_out.false_positives, 0u);
+}
+
+// Leg-sized returns kept out of the occupancy grid (compact_occupancy_weight 0): standing
+// people are tracked while the robot drives past them, and so is furniture (negative_2.bag: 0.17
+// / 0.22 / 0.12 false persons per scan). Measured: scans 0-436 39 of 133 matched, 8 false
+// persons, 0 id switches, MOTA 0.233, recall 0.293, MOTP 0.106 m; scans 437-872 9 false persons.
+TEST(PeopleTrackingReal, MovingRobotBenchmarkBagStandingPeopleKept) {
+  FIELDLIDAR_REQUIRE_DATA("legs_2d_tracking/general_tracking_moving_1.bag");
+  auto config = shipped();
+  config.compact_occupancy_weight = 0.0;
+  const auto s = score_tracking_bag(config);
+  print(s);
+  EXPECT_GE(s.tuned.matches, 37u);
+  EXPECT_GE(s.tuned.mota(), 0.22);
+  EXPECT_LE(s.tuned.false_positives, 10u);
+  EXPECT_EQ(s.whole.id_switches, 0u);
+  EXPECT_LT(s.tuned.motp_m(), 0.12);
+  EXPECT_LE(s.held_out.false_positives, 11u);
 }
 
 // Measured: false persons per scan 0 / 0 / 0.028 (one 12-scan track on /right_scan; main:
-// 0 / 0.023 / 0.021); false legs per scan 3.15 / 4.29 / 3.49 (unchanged: the tracker filters
-// persons, not legs).
+// 0 / 0.023 / 0.021); false legs per scan 3.17 / 4.33 / 3.51 (3.15 / 4.29 / 3.49 before the
+// sensor-frame background learnt only the robot's body, within 1.5 m).
 TEST(PeopleTrackingReal, PeopleFreeBag) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d/negative_2.bag");
   const double max_false_persons[] = {0.005, 0.005, 0.035};
@@ -116,6 +139,24 @@ TEST(PeopleTrackingReal, PeopleFreeBag) {
     EXPECT_LE(per_scan, max_false_persons[i++]) << topic;
     EXPECT_LE(double(legs) / double(scans.size()), 4.5) << topic;
   }
+  // Legs reported only with a margin over the classifier's threshold or leg-track evidence
+  // (1 / 1): measured 1.94 false legs per scan on /left_scan (held-out leg recall 0.954 ->
+  // 0.921, test_legs_classifier_real.cpp), persons unchanged.
+  auto config = shipped();
+  config.leg_report_margin = 1.0;
+  config.leg_report_evidence = 1.0;
+  LegPipeline2D pipeline(config);
+  const auto scans = test::load_leg_scans("legs_2d/negative_2.bag", "/left_scan", "");
+  std::size_t persons = 0, legs = 0;
+  for (const auto& s : scans) {
+    const auto out = pipeline.process(s.stamp_s, s.points);
+    persons += out.people.size();
+    legs += out.legs.size();
+  }
+  std::printf("/left_scan, legs with margin 1 / evidence 1: false legs/scan %.3f\n",
+              double(legs) / double(scans.size()));
+  EXPECT_LE(double(legs) / double(scans.size()), 2.1);
+  EXPECT_EQ(persons, 0u);
 }
 
 // Measured leg recall 0.966 / 0.966 / 0.964 / 0.937 (main: 0.966 / 0.966 / 0.945 / 0.911).

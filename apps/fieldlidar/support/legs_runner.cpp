@@ -66,6 +66,7 @@ LegsRunner::LegsRunner(const LegsRunOptions& o)
   people::LegPipeline2DConfig pipeline_config;
   pipeline_config.detector = legs_;
   pipeline_config.estimate_ego_motion = !o.still;
+  pipeline_config.compact_occupancy_weight = o.compact_occupancy;
   pipeline_ = std::make_unique<people::LegPipeline2D>(pipeline_config);
 }
 

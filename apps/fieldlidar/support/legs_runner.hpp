@@ -27,6 +27,8 @@ struct LegsRunOptions {
   bool seed_only = false;
   bool still = false;  ///< 2D: no ego-motion estimation by scan matching
   bool no_classifier = false;
+  /// 2D: LegPipeline2DConfig::compact_occupancy_weight (0..1).
+  double compact_occupancy = 1.0;
 };
 
 /// One frame's legs and reported persons (sensor frame, m) with the persons' track ids.
