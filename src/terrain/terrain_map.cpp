@@ -113,7 +113,10 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
                  (cell_index(p.x(), cm) - lo.x())];
   };
 
-  // Ground returns into their cells' statistics (relative to the cell centre and z_ref).
+  // Ground returns into their cells' statistics (relative to the cell centre and z_ref), less
+  // the overhangs the ground segmentation took for ground.
+  const std::vector<std::uint8_t> ground_flags =
+      detail::drop_overhang_ground(pts, is_ground, impl_->store, f);
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Eigen::Vector3d& p = pts[i];
     if (!p.allFinite()) continue;
@@ -121,7 +124,7 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
     const int ix = cell_index(p.x(), cm), iy = cell_index(p.y(), cm);
     if (!s.cell) s.cell = &impl_->store.get(ix, iy);
     ++s.returns;
-    if (!is_ground[i]) continue;
+    if (!ground_flags[i]) continue;
     ++s.ground;
     ++u.ground_points;
     s.low_ground = std::min(s.low_ground, float(p.z()));
@@ -135,7 +138,7 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
   // the map's elevation).
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Eigen::Vector3d& p = pts[i];
-    if (is_ground[i] || !p.allFinite()) continue;
+    if (ground_flags[i] || !p.allFinite()) continue;
     ScanCell& s = local_of(p);
     const auto& known = s.cell->layers;
     double base = s.low_ground;
