@@ -38,6 +38,8 @@ struct NavigateOptions {
   int seen_no_ground_points = loops::NavigateConfig{}.seen_no_ground_points;
   double margin_m = loops::NavigateConfig{}.planner.map.footprint_margin_m;
   double shadow_radius_m = loops::NavigateConfig{}.shadow_radius_m;
+  double unknown_tau = loops::NavigateConfig{}.planner.map.unknown_tau;
+  double start_creep_m = loops::NavigateConfig{}.start_creep_m;
   bool force = false;
 };
 
@@ -110,6 +112,8 @@ void run(const NavigateOptions& o) {
   cfg.seen_no_ground_points = o.seen_no_ground_points;
   cfg.planner.map.footprint_margin_m = o.margin_m;
   cfg.shadow_radius_m = o.shadow_radius_m;
+  cfg.planner.map.unknown_tau = o.unknown_tau;
+  cfg.start_creep_m = o.start_creep_m;
   const sim::Scene scene = sim::make_terrain_scene({}, o.seed);
   std::vector<Pair> pairs;
   if (!o.pairs.empty()) {
@@ -227,6 +231,17 @@ void add_navigate_command(CLI::App& app) {
                   "0: off")
       ->capture_default_str()
       ->check(real_in(0, 100));
+  cmd->add_option("--unknown-tau", o->unknown_tau,
+                  "Traversability the planner gives unknown cells (1: as good as the best known "
+                  "ground; lower: unknown ground costs more, never forbidden)")
+      ->capture_default_str()
+      ->check(real_in(0.01, 1));
+  cmd->add_option("--start-creep", o->start_creep_m,
+                  "Cold start: creep straight this far (m) before the first plan, so the ground "
+                  "beside the start (in the LiDAR's blind disk) is seen from a second pose; -1: "
+                  "one blind radius, 0: off")
+      ->capture_default_str()
+      ->check(real_in(-1, 20));
   cmd->add_option("--replan-period", o->replan_period_s, "Re-plan at least this often (s)")
       ->capture_default_str()
       ->check(real_above(0, 3600));

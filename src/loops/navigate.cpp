@@ -63,6 +63,9 @@ class Loop {
   void scan();
   std::string replan_trigger();
   void plan(const std::string& trigger);
+  /// The cold start's straight creep (NavigateConfig::start_creep_m) as the first plan; false
+  /// when it is off or both lanes are blocked.
+  bool start_creep();
   /// True when the next pose's footprint would enter a cell the map knows to be impassable that
   /// the robot does not already stand on.
   bool enters_known_blocked(const Pose2& next) const;
@@ -93,7 +96,8 @@ class Loop {
   double t_ = 0, v_ = 0, last_plan_t_ = -1e9, scan_ms_ = 0, plan_ms_ = 0;
   double blind_radius_m_ = 0;  ///< no ground return nearer the sensor than this (m)
   bool map_updated_ = false, done_ = false;
-  std::string pending_;  ///< a re-plan asked for by the last control step
+  bool creeping_ = false;  ///< following the cold start's creep
+  std::string pending_;    ///< a re-plan asked for by the last control step
   int unreachable_votes_ = 0, planner_failures_ = 0, off_goal_plans_ = 0;
   NavigateState state_ = NavigateState::kPlanning;
 };
@@ -136,22 +140,58 @@ std::string Loop::replan_trigger() {
     const double before =
         std::accumulate(step_costs_.begin() + long(k) + 1, step_costs_.end(), 0.0);
     const double after = std::accumulate(now.begin() + long(k) + 1, now.end(), 0.0);
-    if (after > (1.0 + cfg_.replan_cost_rise) * before + 1e-6) return "cost";
+    if (after > (1.0 + cfg_.replan_cost_rise) * before + 1e-6 && !creeping_) return "cost";
   }
+  if (creeping_) return "";  // the creep runs its course unless blocked
   if (t_ - last_plan_t_ >= cfg_.replan_period_s && map_updated_) return "period";
   return "";
 }
 
+bool Loop::start_creep() {
+  const double length = cfg_.start_creep_m < 0 ? blind_radius_m_ : cfg_.start_creep_m;
+  if (!(length > 0)) return false;
+  // Forward, or backwards when the goal lies behind; the other way when that lane is blocked.
+  const double bearing = std::atan2(goal_.y_m - pose_.y_m, goal_.x_m - pose_.x_m);
+  const bool behind = std::cos(planning::wrap_angle(bearing - pose_.yaw_rad)) < 0;
+  for (bool reverse : {behind, !behind}) {
+    planning::Path path = straight_path(pose_, length, reverse);
+    if (const auto k = planning::first_blocked_sample(*check_map_, path)) {
+      if (*k < 2) continue;
+      path.resize(*k - 1);  // up to the last free sample
+    }
+    PlanRecord rec{
+        t_,  pose_, PlanStatus::kSuccess, "start_creep", path, planning::path_length_m(path),
+        0.0, 0};
+    r_.plans.push_back(std::move(rec));
+    step_costs_ = planning::path_step_costs(*check_map_, path, planner_cfg_.tau_weight,
+                                            planner_cfg_.reverse_factor);
+    follower_.set_path(std::move(path));
+    last_plan_t_ = t_;
+    creeping_ = true;
+    state_ = NavigateState::kDriving;
+    return true;
+  }
+  return false;
+}
+
 void Loop::plan(const std::string& trigger) {
+  if (trigger == "start" && r_.plans.empty() && start_creep()) return;
+  creeping_ = false;
   const auto t0 = Clock::now();
   Grid2D grid = grid_;
   if (cfg_.shadow_radius_m > blind_radius_m_)
     cost_shadows(grid, {pose_.x_m, pose_.y_m}, blind_radius_m_ + grid.geometry().resolution_m,
                  cfg_.shadow_radius_m, float(cfg_.shadow_tau));
+  // A goal whose footprint the map blocks (an obstacle's halo) is moved to the nearest free pose
+  // within the goal tolerance less 0.1 m for the follower's error, where arriving still counts.
+  Pose2 target = goal_;
+  if (!check_map_->pose_free(goal_))
+    if (const auto free = nearest_free_pose(*check_map_, goal_, cfg_.goal_tolerance_m - 0.1))
+      target = *free;
   planning::PlanResult p;
   {
     planning::HybridAStar planner(grid, robot_, planner_cfg_);
-    p = planner.plan(pose_, goal_);
+    p = planner.plan(pose_, target);
   }
   if (p.status == PlanStatus::kTimedOut || p.status == PlanStatus::kExpansionLimit) {
     // An exhaustive search (a goal walled in) outgrows the budget of one control period: once
@@ -160,14 +200,14 @@ void Loop::plan(const std::string& trigger) {
     big.time_budget_ms *= cfg_.retry_budget_factor;
     big.max_expansions = int(big.max_expansions * cfg_.retry_budget_factor);
     planning::HybridAStar planner(grid, robot_, big);
-    p = planner.plan(pose_, goal_);
+    p = planner.plan(pose_, target);
   }
   if (p.status == PlanStatus::kStartInCollision) {
     // The robot stands there: the cells under it are passable whatever the map says (a halo,
     // a margin); clear them for the planner only (the step check still guards new cells).
     clear_under_robot(grid, pose_, robot_, 0.3);
     planning::HybridAStar planner(grid, robot_, planner_cfg_);
-    p = planner.plan(pose_, goal_);
+    p = planner.plan(pose_, target);
   }
   const double ms = ms_since(t0);
   plan_ms_ += ms;
@@ -247,6 +287,15 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
     planning::DriveCommand cmd;
     if (follower_.has_path()) {
       cmd = follower_.command(pose_, v_, dt);
+      if (creeping_) {
+        cmd.v_m_s = std::clamp(cmd.v_m_s, -cfg_.creep_speed_m_s, cfg_.creep_speed_m_s);
+        if (cmd.done) {  // the creep is over: plan to the goal
+          creeping_ = false;
+          follower_.clear();
+          pending_ = "creep_done";
+          cmd.done = false;
+        }
+      }
     } else {
       const double dv = cfg_.follower.max_accel_m_s2 * dt;
       cmd.v_m_s = std::clamp(0.0, v_ - dv, v_ + dv);
