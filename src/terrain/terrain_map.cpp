@@ -4,6 +4,7 @@
 #include "fieldlidar/terrain/terrain_map.hpp"
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "fieldlidar/core/error.hpp"
@@ -202,12 +203,22 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
         for (int dx = -pad; dx <= pad; ++dx)
           dirty[std::size_t(y + pad + dy) * pw + (x + pad + dx)] = 1;
     }
+  std::vector<Eigen::Vector2i> rims;  // 4-neighbours of cells that became or stopped being bumps
   for (int y = 0; y < ph; ++y)
     for (int x = 0; x < pw; ++x)
       if (dirty[std::size_t(y) * pw + x]) {
-        detail::derive_cell(impl_->store, lo.x() + x - pad, lo.y() + y - pad, half, f);
+        const int ix = lo.x() + x - pad, iy = lo.y() + y - pad;
+        const FusedCell* cell = impl_->store.find(ix, iy);
+        const bool bump = cell && cell->bump;
+        detail::derive_cell(impl_->store, ix, iy, half, f);
         ++u.cells_updated;
+        if (cell && cell->bump != bump)
+          for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}})
+            rims.emplace_back(ix + dx, iy + dy);
       }
+  // A bump's rim blocks too (derive_cell's halo), read from the neighbour's flag: the rims of
+  // this scan's new or gone bumps once more, now that every flag is current.
+  for (const auto& c : rims) detail::derive_cell(impl_->store, c.x(), c.y(), half, f);
   return u;
 }
 

@@ -104,7 +104,8 @@ TEST(TerrainFusionCells, BadInputGivesUnknownOrAClearError) {
 
 // A low rock the ground segmentation keeps as ground (0.19 m: above the robot's 0.15 m
 // min_obstacle_height, below its 0.20 m max_step) stands above its neighbours on both sides: an
-// obstacle. A 0.17 m terrace step, higher on one side only, is a step the robot takes.
+// obstacle, with a rim of its 4 neighbour cells. A 0.17 m terrace step, higher on one side only, is
+// a step the robot takes.
 TEST(TerrainFusionCells, LowRockKeptAsGroundBlocksAStepDoesNot) {
   std::vector<Eigen::Vector3d> pts;
   std::vector<std::uint8_t> ground;
@@ -123,6 +124,12 @@ TEST(TerrainFusionCells, LowRockKeptAsGroundBlocksAStepDoesNot) {
   EXPECT_EQ(*m.value_at(layer::kImpassable, {3.25, 6.25}), 0.0f);  // two cells off the rock
   EXPECT_EQ(*m.value_at(layer::kImpassable, {6.75, 5.25}), 0.0f);  // below the terrace's edge
   EXPECT_EQ(*m.value_at(layer::kImpassable, {7.25, 5.25}), 0.0f);  // on it
+  // Its rim: the 4 neighbours block too, as an obstacle's do (the truth marks every cell the
+  // rock's disk touches; a 0.18 m rock on terrain seed 0 was marked in one of its two cells).
+  for (const Eigen::Vector2d& rim : {Eigen::Vector2d(2.75, 5.25), Eigen::Vector2d(3.75, 5.25),
+                                     Eigen::Vector2d(3.25, 4.75), Eigen::Vector2d(3.25, 5.75)})
+    EXPECT_EQ(*m.value_at(layer::kImpassable, rim), 1.0f) << rim.transpose();
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {3.75, 5.75}), 0.0f);  // diagonal: no rim
   FusionConfig no_bump;
   no_bump.bump_obstacles = false;
   TerrainMap without(no_bump);
