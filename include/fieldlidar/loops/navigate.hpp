@@ -1,7 +1,8 @@
 #pragma once
 /// \file Seed 004 in closed loop with the simulator (issue 17, item 5): the robot scans with its
 /// LiDAR, fuses the scans into the traversability map (terrain::TerrainMap, placed by the true
-/// poses), plans on that map with Hybrid A*, follows its plan by pure pursuit, and re-plans when
+/// poses, or by the robot's LiDAR odometry: NavigateConfig::pose_source), plans on that map with
+/// Hybrid A*, follows its plan by pure pursuit, and re-plans when
 /// the map blocks its path, makes the rest of it costlier, or a fixed period has passed. Map frame
 /// = the scene's world frame; m, s, rad.
 ///
@@ -23,6 +24,7 @@
 
 #include "fieldlidar/core/grid2d.hpp"
 #include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/loops/pose_source.hpp"
 #include "fieldlidar/planning/hybrid_astar.hpp"
 #include "fieldlidar/planning/path_follower.hpp"
 #include "fieldlidar/sim/scene.hpp"
@@ -82,7 +84,13 @@ struct NavigateConfig {
   double max_time_s = 0.0;              ///< 0: 40 s + 4 x the straight distance / cruise speed
   int max_safety_stops = 30;            ///< more emergency stops than this: failed
   std::uint64_t sim_seed = 1;           ///< sensor noise seed
-  bool plan_on_truth = true;            ///< also plan on the truth map (the reference length)
+  /// The pose the robot maps, plans, follows and stops by: the truth, or its LiDAR odometry
+  /// (with the IMU and wheel streams) at every mapped sweep, carried between sweeps by the
+  /// commanded speeds (navigate_poses.hpp). The truth still moves the robot and scores the run.
+  PoseSource pose_source = PoseSource::kTruth;
+  odometry::OdometryConfig odometry;  ///< with pose_source kOdometry
+  MotionStreamsConfig streams;        ///< the IMU and wheel streams given to the odometry
+  bool plan_on_truth = true;          ///< also plan on the truth map (the reference length)
 };
 
 /// One row of navigate_log.csv (one control period).
@@ -125,6 +133,9 @@ struct NavigateResult {
   std::size_t frames_on_impassable = 0;
   int replans = 0;  ///< plans after the first
   int safety_stops = 0;
+  PoseSource pose_source = PoseSource::kTruth;
+  double max_pose_error_m = 0;            ///< largest distance of the robot's pose from the truth
+  std::size_t odometry_unregistered = 0;  ///< sweeps the odometry kept at its motion prior
   std::size_t scans = 0;
   double duration_s = 0;  ///< simulated time
   double wall_s = 0;      ///< the run's wall-clock time
