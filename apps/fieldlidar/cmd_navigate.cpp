@@ -31,13 +31,15 @@ namespace {
 namespace fs = std::filesystem;
 
 struct NavigateOptions {
-  std::string scene = "terrain", start, goal, robot, pairs, out;
+  std::string scene = "terrain", start, goal, robot, pairs, out, pose_source = "truth";
   std::uint64_t seed = 0;
   double max_time_s = 0, replan_period_s = loops::NavigateConfig{}.replan_period_s;
   double speed_m_s = loops::NavigateConfig{}.follower.max_speed_m_s;
   int seen_no_ground_points = loops::NavigateConfig{}.seen_no_ground_points;
   double margin_m = loops::NavigateConfig{}.planner.map.footprint_margin_m;
   double shadow_radius_m = loops::NavigateConfig{}.shadow_radius_m;
+  double unknown_tau = loops::NavigateConfig{}.planner.map.unknown_tau;
+  double start_creep_m = loops::NavigateConfig{}.start_creep_m;
   bool force = false;
 };
 
@@ -110,6 +112,12 @@ void run(const NavigateOptions& o) {
   cfg.seen_no_ground_points = o.seen_no_ground_points;
   cfg.planner.map.footprint_margin_m = o.margin_m;
   cfg.shadow_radius_m = o.shadow_radius_m;
+  cfg.planner.map.unknown_tau = o.unknown_tau;
+  cfg.start_creep_m = o.start_creep_m;
+  const auto pose_source = loops::pose_source_from_string(o.pose_source);
+  if (!pose_source)
+    throw Error("--pose-source '" + o.pose_source + "': expected odometry or truth");
+  cfg.pose_source = *pose_source;
   const sim::Scene scene = sim::make_terrain_scene({}, o.seed);
   std::vector<Pair> pairs;
   if (!o.pairs.empty()) {
@@ -227,6 +235,21 @@ void add_navigate_command(CLI::App& app) {
                   "0: off")
       ->capture_default_str()
       ->check(real_in(0, 100));
+  cmd->add_option("--unknown-tau", o->unknown_tau,
+                  "Traversability the planner gives unknown cells (1: as good as the best known "
+                  "ground; lower: unknown ground costs more, never forbidden)")
+      ->capture_default_str()
+      ->check(real_in(0.01, 1));
+  cmd->add_option("--start-creep", o->start_creep_m,
+                  "Cold start: creep straight this far (m) before the first plan, so the ground "
+                  "beside the start (in the LiDAR's blind disk) is seen from a second pose; -1: "
+                  "one blind radius, 0: off")
+      ->capture_default_str()
+      ->check(real_in(-1, 20));
+  cmd->add_option("--pose-source", o->pose_source,
+                  "The pose the robot maps, plans and drives by: truth, or odometry (LiDAR "
+                  "odometry with IMU and wheels at every mapped sweep; the truth still scores)")
+      ->capture_default_str();
   cmd->add_option("--replan-period", o->replan_period_s, "Re-plan at least this often (s)")
       ->capture_default_str()
       ->check(real_above(0, 3600));

@@ -16,6 +16,7 @@
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/loops/navigate_maps.hpp"
+#include "fieldlidar/loops/navigate_poses.hpp"
 #include "fieldlidar/planning/path_check.hpp"
 #include "fieldlidar/planning/planner_for_robot.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
@@ -63,6 +64,9 @@ class Loop {
   void scan();
   std::string replan_trigger();
   void plan(const std::string& trigger);
+  /// The cold start's straight creep (NavigateConfig::start_creep_m) as the first plan; false
+  /// when it is off or both lanes are blocked.
+  bool start_creep();
   /// True when the next pose's footprint would enter a cell the map knows to be impassable that
   /// the robot does not already stand on.
   bool enters_known_blocked(const Pose2& next) const;
@@ -89,11 +93,14 @@ class Loop {
   std::unique_ptr<planning::PlanningMap> check_map_;  ///< the planner's view of grid_
   std::vector<double> step_costs_;  ///< the current plan's step costs when it was made
   NavigateResult r_;
-  Pose2 pose_, goal_;
+  Pose2 pose_, goal_;                   ///< pose_: the truth (motion, scoring)
+  std::optional<NavigatePoses> poses_;  ///< the pose the robot works with (me())
+  const Pose2& me() const { return poses_->estimate(); }
   double t_ = 0, v_ = 0, last_plan_t_ = -1e9, scan_ms_ = 0, plan_ms_ = 0;
   double blind_radius_m_ = 0;  ///< no ground return nearer the sensor than this (m)
   bool map_updated_ = false, done_ = false;
-  std::string pending_;  ///< a re-plan asked for by the last control step
+  bool creeping_ = false;  ///< following the cold start's creep
+  std::string pending_;    ///< a re-plan asked for by the last control step
   int unreachable_votes_ = 0, planner_failures_ = 0, off_goal_plans_ = 0;
   NavigateState state_ = NavigateState::kPlanning;
 };
@@ -112,12 +119,9 @@ void Loop::score_truth_plan() {
 
 void Loop::scan() {
   const auto t0 = Clock::now();
-  const Pose T_world_lidar = sim::pose_on_ground(scene_, {pose_.x_m, pose_.y_m}, pose_.yaw_rad) *
-                             Eigen::Translation3d(0, 0, scene_.sensor_height_m());
-  const sim::SimFrame frame = lidar_.scan(t_, T_world_lidar);
-  map_.add_scan(frame.cloud, sensor_, T_world_lidar);
-  grid_ =
-      area_grid(map_, area_, cfg_.seen_no_ground_points, {pose_.x_m, pose_.y_m}, blind_radius_m_);
+  const sim::SimFrame frame = lidar_.scan(t_, poses_->lidar_pose(pose_));
+  map_.add_scan(frame.cloud, sensor_, poses_->place_sweep(frame.cloud, t_, pose_));
+  grid_ = area_grid(map_, area_, cfg_.seen_no_ground_points, {me().x_m, me().y_m}, blind_radius_m_);
   blocked_ = known_blocked(grid_);
   check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);
   map_updated_ = true;
@@ -136,22 +140,57 @@ std::string Loop::replan_trigger() {
     const double before =
         std::accumulate(step_costs_.begin() + long(k) + 1, step_costs_.end(), 0.0);
     const double after = std::accumulate(now.begin() + long(k) + 1, now.end(), 0.0);
-    if (after > (1.0 + cfg_.replan_cost_rise) * before + 1e-6) return "cost";
+    if (after > (1.0 + cfg_.replan_cost_rise) * before + 1e-6 && !creeping_) return "cost";
   }
+  if (creeping_) return "";  // the creep runs its course unless blocked
   if (t_ - last_plan_t_ >= cfg_.replan_period_s && map_updated_) return "period";
   return "";
 }
 
+bool Loop::start_creep() {
+  const double length = cfg_.start_creep_m < 0 ? blind_radius_m_ : cfg_.start_creep_m;
+  if (!(length > 0)) return false;
+  // Forward, or backwards when the goal lies behind; the other way when that lane is blocked.
+  const double bearing = std::atan2(goal_.y_m - me().y_m, goal_.x_m - me().x_m);
+  const bool behind = std::cos(planning::wrap_angle(bearing - me().yaw_rad)) < 0;
+  for (bool reverse : {behind, !behind}) {
+    planning::Path path = straight_path(me(), length, reverse);
+    if (const auto k = planning::first_blocked_sample(*check_map_, path)) {
+      if (*k < 2) continue;
+      path.resize(*k - 1);  // up to the last free sample
+    }
+    PlanRecord rec{
+        t_, me(), PlanStatus::kSuccess, "start_creep", path, planning::path_length_m(path), 0.0, 0};
+    r_.plans.push_back(std::move(rec));
+    step_costs_ = planning::path_step_costs(*check_map_, path, planner_cfg_.tau_weight,
+                                            planner_cfg_.reverse_factor);
+    follower_.set_path(std::move(path));
+    last_plan_t_ = t_;
+    creeping_ = true;
+    state_ = NavigateState::kDriving;
+    return true;
+  }
+  return false;
+}
+
 void Loop::plan(const std::string& trigger) {
+  if (trigger == "start" && r_.plans.empty() && start_creep()) return;
+  creeping_ = false;
   const auto t0 = Clock::now();
   Grid2D grid = grid_;
   if (cfg_.shadow_radius_m > blind_radius_m_)
-    cost_shadows(grid, {pose_.x_m, pose_.y_m}, blind_radius_m_ + grid.geometry().resolution_m,
+    cost_shadows(grid, {me().x_m, me().y_m}, blind_radius_m_ + grid.geometry().resolution_m,
                  cfg_.shadow_radius_m, float(cfg_.shadow_tau));
+  // A goal whose footprint the map blocks (an obstacle's halo) is moved to the nearest free pose
+  // within the goal tolerance less 0.1 m for the follower's error, where arriving still counts.
+  Pose2 target = goal_;
+  if (!check_map_->pose_free(goal_))
+    if (const auto free = nearest_free_pose(*check_map_, goal_, cfg_.goal_tolerance_m - 0.1))
+      target = *free;
   planning::PlanResult p;
   {
     planning::HybridAStar planner(grid, robot_, planner_cfg_);
-    p = planner.plan(pose_, goal_);
+    p = planner.plan(me(), target);
   }
   if (p.status == PlanStatus::kTimedOut || p.status == PlanStatus::kExpansionLimit) {
     // An exhaustive search (a goal walled in) outgrows the budget of one control period: once
@@ -160,19 +199,19 @@ void Loop::plan(const std::string& trigger) {
     big.time_budget_ms *= cfg_.retry_budget_factor;
     big.max_expansions = int(big.max_expansions * cfg_.retry_budget_factor);
     planning::HybridAStar planner(grid, robot_, big);
-    p = planner.plan(pose_, goal_);
+    p = planner.plan(me(), target);
   }
   if (p.status == PlanStatus::kStartInCollision) {
     // The robot stands there: the cells under it are passable whatever the map says (a halo,
     // a margin); clear them for the planner only (the step check still guards new cells).
-    clear_under_robot(grid, pose_, robot_, 0.3);
+    clear_under_robot(grid, me(), robot_, 0.3);
     planning::HybridAStar planner(grid, robot_, planner_cfg_);
-    p = planner.plan(pose_, goal_);
+    p = planner.plan(me(), target);
   }
   const double ms = ms_since(t0);
   plan_ms_ += ms;
   last_plan_t_ = t_;
-  PlanRecord rec{t_,          pose_,       p.status,
+  PlanRecord rec{t_,          me(),        p.status,
                  trigger,     p.path,      planning::path_length_m(p.path),
                  p.search_ms, p.expansions};
   r_.plans.push_back(std::move(rec));
@@ -201,7 +240,7 @@ void Loop::plan(const std::string& trigger) {
 }
 
 bool Loop::enters_known_blocked(const Pose2& next) const {
-  const auto now = footprint_cells(area_, pose_, robot_);
+  const auto now = footprint_cells(area_, me(), robot_);
   for (long c : footprint_cells(area_, next, robot_)) {
     if (c < 0) return std::find(now.begin(), now.end(), c) == now.end();
     if (blocked_[std::size_t(c)] && std::find(now.begin(), now.end(), c) == now.end()) return true;
@@ -218,6 +257,11 @@ bool Loop::on_truth_impassable(const Pose2& pose) const {
 NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
   const auto wall0 = Clock::now();
   r_.start = pose_ = start;
+  poses_.emplace(scene_, sensor_, start,
+                 cfg_.pose_source == PoseSource::kOdometry
+                     ? std::optional<odometry::OdometryConfig>(cfg_.odometry)
+                     : std::nullopt,
+                 cfg_.streams);
   r_.goal = goal_ = goal;
   const auto& L = cfg_.fusion.layers;
   truth_ = scene_.terrain_truth({.resolution_m = L.cell_m,
@@ -246,14 +290,23 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
     if (done_) break;
     planning::DriveCommand cmd;
     if (follower_.has_path()) {
-      cmd = follower_.command(pose_, v_, dt);
+      cmd = follower_.command(me(), v_, dt);
+      if (creeping_) {
+        cmd.v_m_s = std::clamp(cmd.v_m_s, -cfg_.creep_speed_m_s, cfg_.creep_speed_m_s);
+        if (cmd.done) {  // the creep is over: plan to the goal
+          creeping_ = false;
+          follower_.clear();
+          pending_ = "creep_done";
+          cmd.done = false;
+        }
+      }
     } else {
       const double dv = cfg_.follower.max_accel_m_s2 * dt;
       cmd.v_m_s = std::clamp(0.0, v_ - dv, v_ + dv);
     }
     if (cmd.done && std::abs(cmd.v_m_s) < 1e-9) {
-      const double d = std::hypot(goal.x_m - pose_.x_m, goal.y_m - pose_.y_m);
-      const double dyaw = std::abs(planning::wrap_angle(goal.yaw_rad - pose_.yaw_rad));
+      const double d = std::hypot(goal.x_m - me().x_m, goal.y_m - me().y_m);
+      const double dyaw = std::abs(planning::wrap_angle(goal.yaw_rad - me().yaw_rad));
       if (d <= cfg_.goal_tolerance_m && dyaw <= cfg_.goal_yaw_tolerance_rad) {
         finish(NavigateOutcome::kArrived,
                fmt::format("at the goal: {:.2f} m, {:.2f} rad off", d, dyaw),
@@ -268,7 +321,8 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
       }
     }
     Pose2 next = planning::integrate_unicycle(pose_, cmd.v_m_s, cmd.yaw_rate_rad_s, dt);
-    if (!done_ && enters_known_blocked(next)) {
+    if (!done_ && enters_known_blocked(
+                      planning::integrate_unicycle(me(), cmd.v_m_s, cmd.yaw_rate_rad_s, dt))) {
       cmd.v_m_s = cmd.yaw_rate_rad_s = 0.0;  // emergency stop, then re-plan
       next = pose_;
       pending_ = "safety_stop";
@@ -301,6 +355,9 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
     r_.driven.push_back(pose_);
     if (done_) break;
     r_.driven_length_m += std::hypot(next.x_m - pose_.x_m, next.y_m - pose_.y_m);
+    r_.max_pose_error_m =
+        std::max(r_.max_pose_error_m, std::hypot(me().x_m - pose_.x_m, me().y_m - pose_.y_m));
+    poses_->advance(pose_, cmd.v_m_s, cmd.yaw_rate_rad_s, dt);
     pose_ = next;
     v_ = cmd.v_m_s;
     t_ += dt;
@@ -309,6 +366,8 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
              NavigateState::kFailed);
   }
   r_.duration_s = t_;
+  r_.odometry_unregistered = poses_->unregistered();
+  r_.pose_source = cfg_.pose_source;
   if (std::isfinite(r_.truth_length_m) && r_.truth_length_m > 0)
     r_.length_ratio = r_.driven_length_m / r_.truth_length_m;
   r_.scan_ms = r_.scans ? scan_ms_ / double(r_.scans) : 0.0;

@@ -100,6 +100,33 @@ std::vector<long> footprint_cells(const GridGeometry& geometry, const planning::
   return planning::rectangle_cells(geometry, pose, 0.5 * robot.length_m, 0.5 * robot.width_m);
 }
 
+std::optional<planning::Pose2> nearest_free_pose(const planning::PlanningMap& map,
+                                                 const planning::Pose2& goal, double tolerance_m) {
+  if (map.pose_free(goal)) return goal;
+  constexpr int kDirections = 16;
+  for (double r = 0.05; r <= tolerance_m + 1e-9; r += 0.05)
+    for (int k = 0; k < kDirections; ++k) {
+      const double a = 2.0 * M_PI * k / kDirections;
+      const planning::Pose2 p{goal.x_m + r * std::cos(a), goal.y_m + r * std::sin(a), goal.yaw_rad};
+      if (map.pose_free(p)) return p;
+    }
+  return std::nullopt;
+}
+
+planning::Path straight_path(const planning::Pose2& start, double length_m, bool reverse,
+                             double step_m) {
+  planning::Path path;
+  const int n = std::max(1, int(std::ceil(length_m / step_m)));
+  const double sign = reverse ? -1.0 : 1.0;
+  for (int k = 0; k <= n; ++k) {
+    const double s = sign * length_m * k / n;
+    path.push_back({{start.x_m + s * std::cos(start.yaw_rad),
+                     start.y_m + s * std::sin(start.yaw_rad), start.yaw_rad},
+                    reverse && k > 0});
+  }
+  return path;
+}
+
 void clear_under_robot(Grid2D& grid, const planning::Pose2& pose, const terrain::RobotConfig& robot,
                        double grow_m) {
   auto tau = grid.layer(L::kTraversability);

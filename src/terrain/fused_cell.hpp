@@ -9,6 +9,7 @@
 #include <memory>
 #include <span>
 #include <unordered_map>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -69,6 +70,7 @@ struct FusedCell {
   float log_odds = 0.0f;                                  ///< obstacle evidence
   float obstacle_top_m = 0.0f;  ///< highest obstacle return above the ground while it holds
   std::uint32_t returns = 0;    ///< every return that fell in the cell
+  bool bump = false;            ///< last derived as a bump obstacle (a low rock kept as ground)
   /// The two highest ground returns (z - z_ref): the second is the cell's ground top, one stray
   /// return being no rock.
   std::array<float, 2> ground_top = {-std::numeric_limits<float>::infinity(),
@@ -151,6 +153,17 @@ struct ScanCell {
 void mark_seen_through(std::span<ScanCell> local, const Eigen::Vector2i& lo, int w, int h,
                        std::span<const Eigen::Vector3d> points_m, const Eigen::Vector3d& sensor_m,
                        int stride, const FusionConfig& config);
+
+/// The ground flags of a scan's returns (map frame) less the overhangs the ground segmentation
+/// took for ground (a branch over a track seen from afar, where the ground under it is hidden):
+/// returns more than the robot's clearance above the lowest ground of their 3 x 3 cells, this
+/// scan's or the store's (plus 2 sqrt 2 cells x tan(max_slope): ground the robot can climb rises
+/// that much across them). A cell of the store whose ground stands as much above
+/// this scan's lowest ground return in it (an overhang seen before the ground under it) loses
+/// its ground statistics first.
+std::vector<std::uint8_t> drop_overhang_ground(std::span<const Eigen::Vector3d> points_m,
+                                               std::span<const std::uint8_t> is_ground,
+                                               CellStore& store, const FusionConfig& config);
 
 /// Recomputes the layers of cell (ix, iy) from its statistics and its voxel window's (`half`
 /// cells each side; a no-op for a cell never written).

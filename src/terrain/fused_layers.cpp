@@ -117,12 +117,16 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
   const TraversabilityConfig& c = config.layers;
   auto& L = cell->layers;
   L.fill(kNaN);
+  cell->bump = false;
   const bool own_obstacle = cell->log_odds > 0.0f;
   bool obstacle = own_obstacle;
-  if (config.obstacle_halo && half > 0)  // an obstacle's rim: its 4 neighbours block too
+  // An obstacle's rim: its 4 neighbours block too. A bump (a low rock kept as ground, flagged when
+  // the neighbour was last derived) has a rim as well: a 0.18 m rock 0.48 m wide on seed 0 was
+  // marked in one of its two cells only, and the robot drove over the other.
+  if (config.obstacle_halo && half > 0)
     for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
       const FusedCell* q = store.find(ix + dx, iy + dy);
-      obstacle = obstacle || (q && q->log_odds > 0.0f);
+      obstacle = obstacle || (q && (q->log_odds > 0.0f || q->bump));
     }
   const bool ground_known = cell->ground.n >= config.min_ground_points;
 
@@ -198,6 +202,7 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
   L[kProj] = own_obstacle ? 1.0f : 0.0f;
   L[kElev] = float(plane_z + cell->z_ref);
   const bool bumped = bump > c.robot.min_obstacle_height_m - config.bump_margin_m;
+  cell->bump = bumped;
   const bool blocked = too_steep || step > c.robot.max_step_m || obstacle || bumped;
   if (!blocked && config.passable_needs_full_window && !window_seen(store, ix, iy, half, config))
     return;  // part of the robot's footprint unseen (a shadow: behind a rock, inside a pit)

@@ -4,6 +4,7 @@
 #include "fieldlidar/terrain/terrain_map.hpp"
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "fieldlidar/core/error.hpp"
@@ -122,7 +123,10 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
                  (cell_index(p.x(), cm) - lo.x())];
   };
 
-  // Ground returns into their cells' statistics (relative to the cell centre and z_ref).
+  // Ground returns into their cells' statistics (relative to the cell centre and z_ref), less
+  // the overhangs the ground segmentation took for ground.
+  const std::vector<std::uint8_t> ground_flags =
+      detail::drop_overhang_ground(pts, is_ground, impl_->store, f);
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Eigen::Vector3d& p = pts[i];
     if (!p.allFinite()) continue;
@@ -130,7 +134,7 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
     const int ix = cell_index(p.x(), cm), iy = cell_index(p.y(), cm);
     if (!s.cell) s.cell = &impl_->store.get(ix, iy);
     ++s.returns;
-    if (!is_ground[i]) continue;
+    if (!ground_flags[i]) continue;
     ++s.ground;
     ++u.ground_points;
     s.low_ground = std::min(s.low_ground, float(p.z()));
@@ -144,7 +148,7 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
   // the map's elevation).
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Eigen::Vector3d& p = pts[i];
-    if (is_ground[i] || !p.allFinite()) continue;
+    if (ground_flags[i] || !p.allFinite()) continue;
     ScanCell& s = local_of(p);
     const auto& known = s.cell->layers;
     double base = s.low_ground;
@@ -208,12 +212,22 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
         for (int dx = -pad; dx <= pad; ++dx)
           dirty[std::size_t(y + pad + dy) * pw + (x + pad + dx)] = 1;
     }
+  std::vector<Eigen::Vector2i> rims;  // 4-neighbours of cells that became or stopped being bumps
   for (int y = 0; y < ph; ++y)
     for (int x = 0; x < pw; ++x)
       if (dirty[std::size_t(y) * pw + x]) {
-        detail::derive_cell(impl_->store, lo.x() + x - pad, lo.y() + y - pad, half, f);
+        const int ix = lo.x() + x - pad, iy = lo.y() + y - pad;
+        const FusedCell* cell = impl_->store.find(ix, iy);
+        const bool bump = cell && cell->bump;
+        detail::derive_cell(impl_->store, ix, iy, half, f);
         ++u.cells_updated;
+        if (cell && cell->bump != bump)
+          for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}})
+            rims.emplace_back(ix + dx, iy + dy);
       }
+  // A bump's rim blocks too (derive_cell's halo), read from the neighbour's flag: the rims of
+  // this scan's new or gone bumps once more, now that every flag is current.
+  for (const auto& c : rims) detail::derive_cell(impl_->store, c.x(), c.y(), half, f);
   return u;
 }
 

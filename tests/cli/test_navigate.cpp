@@ -52,5 +52,23 @@ TEST(CliNavigate, ShortDriveWritesItsFilesAndKeepsThem) {
   EXPECT_NE(help.output.find("(m, m, rad"), std::string::npos) << help.output;
 }
 
+// --pose-source odometry: the robot maps and drives by its LiDAR odometry; the summary says so
+// and gives its largest pose error against the truth. A bad name is an error naming the option.
+TEST(CliNavigate, OdometryPoseSource) {
+  const auto dir = temp_dir("cli_navigate_odometry");
+  const auto out = dir / "nav";
+  const auto r = run_cli(
+      "navigate --seed 0 --start 3,20,0 --goal 9,20,0 --pose-source odometry --out " + quoted(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(j["outcome"], "arrived");
+  EXPECT_EQ(j["pose_source"].get<std::string>().rfind("odometry", 0), 0u);
+  EXPECT_GT(j["max_pose_error_m"].get<double>(), 0.0);
+  EXPECT_LT(j["max_pose_error_m"].get<double>(), 0.3);
+  const auto bad = run_cli("navigate --seed 0 --pose-source gps --out " + quoted(dir / "bad"));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("--pose-source"), std::string::npos) << bad.output;
+}
+
 }  // namespace
 }  // namespace fieldlidar::test

@@ -9,7 +9,9 @@
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/loops/navigate.hpp"
+#include "fieldlidar/loops/navigate_maps.hpp"
 #include "fieldlidar/sim/scenes.hpp"
+#include "fieldlidar/terrain/traversability.hpp"
 
 using namespace fieldlidar;
 using fieldlidar::planning::Pose2;
@@ -65,4 +67,50 @@ TEST(Navigate, BadInputIsAnError) {
   bad.fusion.layers.robot.min_turn_radius_m = 0.0;
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
                Error);
+}
+
+// A goal whose footprint a blocked cell (an obstacle's halo) touches is moved to the nearest free
+// pose within the tolerance, same heading; a goal inside a wide obstacle has none.
+TEST(Navigate, BlockedGoalMovesToTheNearestFreePose) {
+  Grid2D grid(GridGeometry{.resolution_m = 0.5, .origin_m = {0, 0}, .width = 20, .height = 20});
+  auto tau = grid.add_layer(terrain::layer::kTraversability, 1.0f);
+  for (int iy = 0; iy < 20; ++iy) tau[grid.geometry().linear_index(11, iy)] = 0.0f;  // x 5.5-6
+  for (int iy = 0; iy < 20; ++iy)
+    for (int ix = 14; ix < 20; ++ix) tau[grid.geometry().linear_index(ix, iy)] = 0.0f;
+  const terrain::RobotConfig robot;
+  const planning::PlanningMap map(grid, robot, {});
+  // Heading north, 0.29 m + 0.05 m margin each side: x = 5.1 reaches 5.44 plus the masks' cell
+  // rounding; a few tenths west it is free.
+  const Pose2 goal{5.1, 5.0, std::numbers::pi / 2};
+  ASSERT_FALSE(map.pose_free(goal));
+  const auto moved = loops::nearest_free_pose(map, goal, 0.3);
+  ASSERT_TRUE(moved.has_value());
+  EXPECT_TRUE(map.pose_free(*moved));
+  EXPECT_LE(std::hypot(moved->x_m - goal.x_m, moved->y_m - goal.y_m), 0.3 + 1e-9);
+  EXPECT_LT(moved->x_m, goal.x_m);
+  EXPECT_EQ(moved->yaw_rad, goal.yaw_rad);
+  EXPECT_FALSE(loops::nearest_free_pose(map, {8.5, 5.0, 0.0}, 0.3).has_value());
+  EXPECT_EQ(loops::nearest_free_pose(map, {2.0, 5.0, 0.0}, 0.3)->x_m, 2.0);  // already free
+}
+
+// The cold-start creep: the first plan is a straight run along the start heading, one blind
+// radius long (1.2 m / tan 15 deg = 4.48 m for the VLP-16), driven at no more than the creep
+// speed; then the robot plans to the goal and arrives.
+TEST(Navigate, StartCreepGoesStraightFirst) {
+  loops::NavigateConfig cfg;
+  cfg.start_creep_m = -1.0;
+  const auto r = loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {16, 20, 0}, cfg);
+  print("along_route, creep", r);
+  EXPECT_EQ(r.outcome, loops::NavigateOutcome::kArrived) << r.reason;
+  ASSERT_GE(r.plans.size(), 2u);
+  EXPECT_EQ(r.plans[0].trigger, "start_creep");
+  EXPECT_NEAR(r.plans[0].length_m, 1.2 / std::tan(15.0 * std::numbers::pi / 180), 0.05);
+  for (const auto& p : r.plans[0].path) EXPECT_NEAR(p.pose.y_m, 20.0, 1e-9);
+  EXPECT_EQ(r.plans[1].trigger, "creep_done");
+  for (const auto& row : r.rows)
+    if (row.t_s < r.plans[1].t_s) {
+      EXPECT_LE(std::abs(row.v_m_s), cfg.creep_speed_m_s + 1e-9);
+    }
+  EXPECT_EQ(r.frames_on_impassable, 0u);
+  EXPECT_LE(r.length_ratio, 1.15);
 }

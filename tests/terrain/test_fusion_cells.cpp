@@ -138,7 +138,8 @@ TEST(TerrainFusionCells, BadInputGivesUnknownOrAClearError) {
 
 // A low rock the ground segmentation keeps as ground (0.19 m: above the robot's 0.15 m
 // min_obstacle_height, below its 0.20 m max_step) stands above its neighbours on both sides: an
-// obstacle. A 0.17 m terrace step, higher on one side only, is a step the robot takes.
+// obstacle, with a rim of its 4 neighbour cells. A 0.17 m terrace step, higher on one side only, is
+// a step the robot takes.
 TEST(TerrainFusionCells, LowRockKeptAsGroundBlocksAStepDoesNot) {
   std::vector<Eigen::Vector3d> pts;
   std::vector<std::uint8_t> ground;
@@ -157,11 +158,58 @@ TEST(TerrainFusionCells, LowRockKeptAsGroundBlocksAStepDoesNot) {
   EXPECT_EQ(*m.value_at(layer::kImpassable, {3.25, 6.25}), 0.0f);  // two cells off the rock
   EXPECT_EQ(*m.value_at(layer::kImpassable, {6.75, 5.25}), 0.0f);  // below the terrace's edge
   EXPECT_EQ(*m.value_at(layer::kImpassable, {7.25, 5.25}), 0.0f);  // on it
+  // Its rim: the 4 neighbours block too, as an obstacle's do (the truth marks every cell the
+  // rock's disk touches; a 0.18 m rock on terrain seed 0 was marked in one of its two cells).
+  for (const Eigen::Vector2d& rim : {Eigen::Vector2d(2.75, 5.25), Eigen::Vector2d(3.75, 5.25),
+                                     Eigen::Vector2d(3.25, 4.75), Eigen::Vector2d(3.25, 5.75)})
+    EXPECT_EQ(*m.value_at(layer::kImpassable, rim), 1.0f) << rim.transpose();
+  EXPECT_EQ(*m.value_at(layer::kImpassable, {3.75, 5.75}), 0.0f);  // diagonal: no rim
   FusionConfig no_bump;
   no_bump.bump_obstacles = false;
   TerrainMap without(no_bump);
   without.add_points(pts, ground, {5, 5, 1.2});
   EXPECT_EQ(*without.global_map().value_at(layer::kImpassable, {3.25, 5.25}), 0.0f);
+}
+
+// A branch over a track, seen from afar, that the ground segmentation took for ground (terrain
+// seed 0: strips of impassable cells 3-7 m long under the branches, which sent the navigate loop
+// round them): returns more than the clearance above the ground near them are no ground. Seen
+// with the ground beside it, or first alone and then with the ground under it, the branch leaves
+// the track passable.
+TEST(TerrainFusionCells, OverhangTakenForGroundLeavesTheTrackPassable) {
+  std::vector<Eigen::Vector3d> ground_pts, branch;
+  std::vector<std::uint8_t> g_ground, g_branch;
+  for (double x = 0.05; x < 10; x += 0.1)
+    for (double y = 0.05; y < 10; y += 0.1) {
+      if (x > 5.0 && x < 5.5) continue;  // under the branch: hidden in the first scan
+      ground_pts.emplace_back(x, y, 0.02 * x), g_ground.push_back(1);
+    }
+  for (double y = 2.02; y < 8; y += 0.05)  // one ring's line along the branch, 2.4 m up
+    branch.emplace_back(5.3, y, 2.4), g_branch.push_back(1);
+  const Eigen::Vector2d under(5.25, 5.25), beside(4.75, 5.25);
+  // One scan: the branch with the ground beside it.
+  std::vector<Eigen::Vector3d> both = ground_pts;
+  std::vector<std::uint8_t> g_both = g_ground;
+  both.insert(both.end(), branch.begin(), branch.end());
+  g_both.insert(g_both.end(), g_branch.begin(), g_branch.end());
+  TerrainMap one;
+  one.add_points(both, g_both, {5, 0, 1.2});
+  // The ground under the branch is hidden: unknown there and next to it, not impassable.
+  EXPECT_FALSE(*one.global_map().value_at(layer::kImpassable, under) > 0.5f);
+  EXPECT_FALSE(*one.global_map().value_at(layer::kImpassable, beside) > 0.5f);
+  EXPECT_EQ(*one.global_map().value_at(layer::kImpassable, {4.25, 5.25}), 0.0f);
+  // The branch alone first (nothing near it seen yet: taken for ground), then the ground under
+  // and beside it: the cells drop the branch and are passable.
+  TerrainMap two;
+  two.add_points(branch, g_branch, {5, 0, 1.2});
+  std::vector<Eigen::Vector3d> all = ground_pts;
+  std::vector<std::uint8_t> g_all = g_ground;
+  for (double x = 5.05; x < 5.5; x += 0.1)
+    for (double y = 0.05; y < 10; y += 0.1) all.emplace_back(x, y, 0.02 * x), g_all.push_back(1);
+  two.add_points(all, g_all, {5, 0, 1.2});
+  EXPECT_EQ(*two.global_map().value_at(layer::kImpassable, under), 0.0f);
+  EXPECT_EQ(*two.global_map().value_at(layer::kImpassable, beside), 0.0f);
+  EXPECT_NEAR(*two.global_map().value_at(layer::kElevation, under), 0.02 * 5.25, 0.01);
 }
 
 // A cell no return hit, between seen flat ground (sparse: few returns each side), is bridged by

@@ -163,7 +163,12 @@ nlohmann::json navigate_summary(const loops::NavigateResult& r) {
   j["wall_s"] = r.wall_s;
   j["mean_scan_ms"] = r.scan_ms;
   j["mean_plan_ms"] = r.plan_ms;
-  j["pose_source"] = "truth (the simulator's poses place the scans)";
+  j["pose_source"] = r.pose_source == loops::PoseSource::kTruth
+                         ? "truth (the simulator's poses place the scans)"
+                         : "odometry (LiDAR odometry with IMU and wheels places the scans; the "
+                           "robot plans and drives by it)";
+  j["max_pose_error_m"] = r.max_pose_error_m;
+  j["odometry_unregistered_sweeps"] = r.odometry_unregistered;
   nlohmann::json triggers = nlohmann::json::object();
   for (const auto& p : r.plans) triggers[p.trigger] = triggers.value(p.trigger, 0) + 1;
   j["plan_triggers"] = triggers;

@@ -2,9 +2,11 @@
 /// \file The maps of the navigate loop: the truth as the planner reads it, the fused map cut to
 /// the operating area, and footprints against either.
 
+#include <optional>
 #include <vector>
 
 #include "fieldlidar/core/grid2d.hpp"
+#include "fieldlidar/planning/planning_map.hpp"
 #include "fieldlidar/planning/pose2.hpp"
 #include "fieldlidar/terrain/terrain_map.hpp"
 #include "fieldlidar/terrain/traversability.hpp"
@@ -45,6 +47,16 @@ std::vector<std::uint8_t> known_blocked(const Grid2D& grid);
 /// -1 for a part off the grid.
 std::vector<long> footprint_cells(const GridGeometry& geometry, const planning::Pose2& pose,
                                   const terrain::RobotConfig& robot);
+
+/// The free pose (PlanningMap::pose_free) nearest `goal` within `tolerance_m` of it, same
+/// heading: rings of 0.05 m steps, 16 directions each; nullopt when there is none.
+std::optional<planning::Pose2> nearest_free_pose(const planning::PlanningMap& map,
+                                                 const planning::Pose2& goal, double tolerance_m);
+
+/// A straight path of `length_m` from `start` along its heading (backwards when `reverse`), one
+/// sample every `step_m`.
+planning::Path straight_path(const planning::Pose2& start, double length_m, bool reverse,
+                             double step_m = 0.1);
 
 /// Marks the cells under the robot at `pose` (its rectangle grown by `grow_m`) as known passable
 /// at tau >= 0.5: the robot stands there, so the planner may start there.
