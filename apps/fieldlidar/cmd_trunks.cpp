@@ -357,6 +357,9 @@ void run(const TrunksOptions& o) {
   cfg.max_radius_m = o.max_radius_m;
   cfg.segments.max_radius_m = o.max_radius_m;
   cfg.segments.slice_m = o.slice_m;
+  // A plot file (not one sensor-centred sweep) is taken as seen from all round: its stems must
+  // reach down to breast height and fill their slices.
+  cfg.plot_full_view = !sweep && !cloud.fields.ring;
   const auto result = forest::extract_trees(cloud, ground.is_ground, cfg);
   io::write_file_atomic(out / "trees.csv", trees_csv(result.trees, cloud.origin_m), o.force);
   io::write_file_atomic(out / "trees.geojson", trees_geojson(result.trees, cloud.origin_m),

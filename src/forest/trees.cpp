@@ -111,7 +111,10 @@ std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const Scan
   t.ground_found = std::isfinite(zg);
   if (!t.ground_found) zg = z_lowest;
   if (stem.z_low - zg > c.max_base_height_m) return std::nullopt;  // a fork or crown branch
-  if (rings && line_fill(segments, stem) < c.min_line_fill) return std::nullopt;  // a shrub
+  // A shrub or crown gives scattered hits over a metre or more (a sweep's lines or a plot's
+  // slices).
+  if ((rings || c.plot_full_view) && line_fill(segments, stem) < c.min_line_fill)
+    return std::nullopt;
   // Stem points within the window around breast height, along the stacked axis.
   const Eigen::Vector3d base0 = axis_at_z(axis.point, a, zg);
   std::vector<Eigen::Vector3d> band;
@@ -128,10 +131,16 @@ std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const Scan
     }
   }
   if (band.size() < c.min_stem_points || h_max - h_min < c.min_extent_seen_m) return std::nullopt;
+  // A plot seen from all round sees its stems down to the floor: one that starts above breast
+  // height is a branch or a piece of crown, and its circle at 1.3 m would be drawn where nothing
+  // was seen.
+  if (!cloud.fields.ring && c.plot_full_view && h_min > c.plot_max_stem_start_m)
+    return std::nullopt;
   CylinderFitConfig fc = c.cylinder;
   fc.min_radius_m = c.min_radius_m;
   fc.max_radius_m = c.max_radius_m;
   fc.fit_direction = fc.fit_direction && band_hi - band_lo >= c.min_fit_span_m;
+  if (cloud.fields.ring) fc.start_bin_m = 0.0;  // a sweep's few lines a bin: one fit starts it
   const Cylinder cyl = fit_cylinder(band, axis_at_z(axis.point, a, zg + c.dbh_height_m), a, fc);
   const double max_residual = cloud.fields.ring ? c.max_residual_m : c.plot_max_residual_m;
   if (!cyl.ok || cyl.residual_m > max_residual) return std::nullopt;

@@ -100,6 +100,10 @@ struct CylinderFitConfig {
   double trim_sigmas = 2.5;   ///< points farther than this many RMS residuals are dropped
   double min_trim_m = 0.02;   ///< but never those nearer than this
   std::size_t min_points = 6;
+  /// The start: median of circle fits in bins this tall along the initial axis when there are
+  /// three or more (a branch whorl pulls one bin's fit), and points trimmed on the median
+  /// absolute residual when it is below the RMS; 0: one fit of all points, RMS trim (sweeps).
+  double start_bin_m = 0.3;
 };
 
 struct Cylinder {
@@ -132,9 +136,15 @@ struct TreeConfig {
   std::size_t min_stem_points = 8;  ///< fewer in the window: not a tree
   double min_fit_span_m = 0.8;      ///< a shorter window span keeps the stacked axis direction
   double max_base_height_m = 3.0;   ///< the lowest segment must be within this of the ground
-  /// A sweep: the share of scan lines between a stem's lowest and highest that must hold one of
-  /// its segments (a shrub or crown gives a few scattered hits over a metre or more).
+  /// The share of scan lines (a sweep) or slices (a plot_full_view cloud) between a stem's
+  /// lowest and highest that must hold one of its segments (a shrub or crown gives a few
+  /// scattered hits over a metre or more).
   double min_line_fill = 0.4;
+  /// A cloud without rings scanned from all round (a TLS plot, not one robot sweep whose lower
+  /// stems undergrowth hides): its slices must fill min_line_fill too, and a stem whose lowest
+  /// point lies more than plot_max_stem_start_m above the ground is a branch or crown piece.
+  bool plot_full_view = false;
+  double plot_max_stem_start_m = 1.45;
   double ground_radius_m = 1.5;  ///< ground points within this of the axis give its base
   /// A cloud without rings: ground flagged on branches (a cell under a dense crown whose lowest
   /// return is not the floor) is caught as a base more than max_ground_step_m above the lowest
