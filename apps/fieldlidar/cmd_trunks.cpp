@@ -93,7 +93,7 @@ void print_scores(const std::vector<forest::Tree>& trees, const std::vector<True
     return false;
   };
   std::vector<char> used(truth.size(), 0);
-  int scored = 0, detected = 0, matched = 0;
+  int scored = 0, detected = 0, matched = 0, uncertain = 0;
   double dbh_sq = 0, dbh_sum = 0, pos_sq = 0;
   for (const auto& t : truth) scored += near_path(t.at_dbh, 10.0);
   for (const auto& d : trees) {
@@ -114,29 +114,35 @@ void print_scores(const std::vector<forest::Tree>& trees, const std::vector<True
     if (best == truth.size()) continue;
     used[best] = 1;
     ++matched;
+    pos_sq += bd * bd;
+    if (d.dbh_uncertain) {
+      ++uncertain;
+      continue;
+    }
     dbh_sq += std::pow(d.dbh_m - truth[best].dbh_m, 2);
     dbh_sum += d.dbh_m - truth[best].dbh_m;
-    pos_sq += bd * bd;
   }
-  const double m = std::max(matched, 1);
+  const double m = std::max(matched, 1), md = std::max(matched - uncertain, 1);
   fmt::print(
       "truth: {} trees{}, {} detected, {} matched: precision {:.3f}, recall {:.3f}, DBH RMSE "
-      "{:.4f} m, bias {:+.4f} m, position RMSE {:.4f} m\n",
+      "{:.4f} m, bias {:+.4f} m (over {} with a measured DBH; {} marked uncertain), position "
+      "RMSE {:.4f} m\n",
       scored, path.empty() ? "" : " within 10 m of the path", detected, matched,
       detected ? double(matched) / detected : 1.0, scored ? double(matched) / scored : 1.0,
-      std::sqrt(dbh_sq / m), dbh_sum / m, std::sqrt(pos_sq / m));
+      std::sqrt(dbh_sq / md), dbh_sum / md, matched - uncertain, uncertain, std::sqrt(pos_sq / m));
 }
 
 std::string trees_csv(const std::vector<forest::Tree>& trees, const Eigen::Vector3d& origin) {
   std::string s =
       "id,x_m,y_m,z_base_m,dbh_m,axis_x,axis_y,axis_z,height_seen_m,arc_deg,"
-      "residual_m,observations\n";
+      "residual_m,observations,dbh_uncertain\n";
   for (const auto& t : trees) {
     const Eigen::Vector3d b = t.base_m + origin;
-    s +=
-        fmt::format("{},{:.3f},{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{:.2f},{:.1f},{:.4f},{}\n",
-                    t.id, b.x(), b.y(), b.z(), t.dbh_m, t.axis.x(), t.axis.y(), t.axis.z(),
-                    t.z_max_seen_m - t.z_min_seen_m, t.arc_deg, t.residual_m, t.observations);
+    s += fmt::format(
+        "{},{:.3f},{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{:.2f},{:.1f},{:.4f},{},{}\n", t.id,
+        b.x(), b.y(), b.z(), t.dbh_m, t.axis.x(), t.axis.y(), t.axis.z(),
+        t.z_max_seen_m - t.z_min_seen_m, t.arc_deg, t.residual_m, t.observations,
+        int(t.dbh_uncertain));
   }
   return s;
 }
@@ -155,7 +161,8 @@ std::string trees_geojson(const std::vector<forest::Tree>& trees, const Eigen::V
            {"arc_deg", t.arc_deg},
            {"residual_m", t.residual_m},
            {"observations", t.observations},
-           {"ground_found", t.ground_found}}}});
+           {"ground_found", t.ground_found},
+           {"dbh_uncertain", t.dbh_uncertain}}}});
   }
   return fc.dump(1) + "\n";
 }
@@ -350,6 +357,9 @@ void run(const TrunksOptions& o) {
   cfg.max_radius_m = o.max_radius_m;
   cfg.segments.max_radius_m = o.max_radius_m;
   cfg.segments.slice_m = o.slice_m;
+  // A plot file (not one sensor-centred sweep) is taken as seen from all round: its stems must
+  // reach down to breast height and fill their slices.
+  cfg.plot_full_view = !sweep && !cloud.fields.ring;
   const auto result = forest::extract_trees(cloud, ground.is_ground, cfg);
   io::write_file_atomic(out / "trees.csv", trees_csv(result.trees, cloud.origin_m), o.force);
   io::write_file_atomic(out / "trees.geojson", trees_geojson(result.trees, cloud.origin_m),

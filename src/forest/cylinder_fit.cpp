@@ -57,6 +57,38 @@ double solve(std::span<const Eigen::Vector3d> q, const std::vector<char>& keep, 
   return n ? std::sqrt(ss / double(n)) : 0.0;
 }
 
+// Per-bin circle fits (config.start_bin_m of local height, at least min_points each): the
+// median centre and radius replace the start when at least three bins fit.
+void robust_start(std::span<const Eigen::Vector3d> q, const CylinderFitConfig& config, Local& m) {
+  if (!(config.start_bin_m > 0)) return;
+  double lo = 1e30, hi = -1e30;
+  for (const auto& p : q) {
+    lo = std::min(lo, p.z());
+    hi = std::max(hi, p.z());
+  }
+  const int bins = int((hi - lo) / config.start_bin_m) + 1;
+  if (bins < 3) return;
+  std::vector<std::vector<Eigen::Vector2d>> by_bin(static_cast<std::size_t>(bins));
+  for (const auto& p : q)
+    by_bin[std::size_t(std::min(bins - 1, int((p.z() - lo) / config.start_bin_m)))].push_back(
+        p.head<2>());
+  std::vector<double> cx, cy, r;
+  for (const auto& pts : by_bin) {
+    if (pts.size() < config.min_points) continue;
+    const Circle c = fit_circle(pts, config.min_radius_m, config.max_radius_m, 20);
+    if (!c.ok) continue;
+    cx.push_back(c.center.x());
+    cy.push_back(c.center.y());
+    r.push_back(c.radius_m);
+  }
+  if (r.size() < 3) return;
+  auto median = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  m = Local{{median(cx), median(cy)}, Eigen::Vector2d::Zero(), median(r)};
+}
+
 }  // namespace
 
 Cylinder fit_cylinder(std::span<const Eigen::Vector3d> points, const Eigen::Vector3d& axis_point,
@@ -73,17 +105,28 @@ Cylinder fit_cylinder(std::span<const Eigen::Vector3d> points, const Eigen::Vect
     const Eigen::Matrix3d R =
         Eigen::Quaterniond::FromTwoVectors(dir, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     for (std::size_t i = 0; i < points.size(); ++i) q[i] = R * (points[i] - origin);
-    // Start: the bounded circle fit of the points projected along the axis.
+    // Start: the bounded circle fit of the points projected along the axis, or, when the points
+    // span several height bins, the median centre and radius of per-bin fits (a branch whorl
+    // pulls one bin, not the median).
     std::vector<Eigen::Vector2d> xy;
     for (std::size_t i = 0; i < q.size(); ++i)
       if (keep[i]) xy.push_back(q[i].head<2>());
     const Circle c0 = fit_circle(xy, config.min_radius_m, config.max_radius_m, 20);
     if (!c0.ok) return cyl;
     m = Local{c0.center, Eigen::Vector2d::Zero(), c0.radius_m};
+    if (round == 0) robust_start(q, config, m);
     for (int trim = 0; trim <= config.trim_rounds; ++trim) {
       rms = solve(q, keep, m, config.fit_direction, config.min_radius_m, config.max_radius_m);
       if (trim == config.trim_rounds) break;
-      const double thr = std::max(config.min_trim_m, config.trim_sigmas * rms);
+      // With the binned start, the trim scale from the median absolute residual too: branch
+      // points inflate an RMS.
+      std::vector<double> res;
+      for (std::size_t i = 0; i < q.size(); ++i)
+        if (keep[i]) res.push_back(std::abs((q[i].head<2>() - m.c - m.s * q[i].z()).norm() - m.r));
+      std::nth_element(res.begin(), res.begin() + res.size() / 2, res.end());
+      const double scale =
+          config.start_bin_m > 0 ? std::min(rms, 1.4826 * res[res.size() / 2]) : rms;
+      const double thr = std::max(config.min_trim_m, config.trim_sigmas * scale);
       std::size_t kept = 0;
       bool changed = false;
       for (std::size_t i = 0; i < q.size(); ++i) {

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Dense>
+
 namespace fieldlidar::forest {
 
 std::int64_t GroundIndex::cell(double v) {
@@ -23,20 +25,46 @@ double GroundIndex::height_near(const Eigen::Vector2d& xy, double radius) const 
   return quantile_near(xy, radius, 0.5);
 }
 
-double GroundIndex::quantile_near(const Eigen::Vector2d& xy, double radius, double q) const {
-  std::vector<double> z;
+std::vector<Eigen::Vector3d> GroundIndex::within(const Eigen::Vector2d& xy, double radius) const {
+  std::vector<Eigen::Vector3d> out;
   const int r = int(std::ceil(radius));
   for (int dx = -r; dx <= r; ++dx)
     for (int dy = -r; dy <= r; ++dy) {
       auto it = cells_.find(key(cell(xy.x()) + dx, cell(xy.y()) + dy));
       if (it == cells_.end()) continue;
       for (const auto& p : it->second)
-        if ((p.head<2>() - xy).norm() <= radius) z.push_back(p.z());
+        if ((p.head<2>() - xy).norm() <= radius) out.push_back(p);
     }
+  return out;
+}
+
+double GroundIndex::quantile_near(const Eigen::Vector2d& xy, double radius, double q) const {
+  std::vector<double> z;
+  for (const auto& p : within(xy, radius)) z.push_back(p.z());
   if (z.empty()) return std::numeric_limits<double>::quiet_NaN();
   const auto k = std::size_t(std::clamp(q, 0.0, 1.0) * double(z.size() - 1));
   std::nth_element(z.begin(), z.begin() + k, z.end());
   return z[k];
+}
+
+double GroundIndex::plane_height_near(const Eigen::Vector2d& xy, double radius,
+                                      std::size_t min_points) const {
+  const auto pts = within(xy, radius);
+  if (pts.size() < min_points) return std::numeric_limits<double>::quiet_NaN();
+  // z = a + b (x - x0) + c (y - y0), centred on xy so that a is the answer.
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) {
+    const Eigen::Vector3d row(1.0, p.x() - xy.x(), p.y() - xy.y());
+    A += row * row.transpose();
+    b += row * p.z();
+  }
+  // Points on one line (a single ring's arc) leave the tilt across it free.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> spread(A.block<2, 2>(1, 1) / double(pts.size()) -
+                                                        A.block<2, 1>(1, 0) * A.block<1, 2>(0, 1) /
+                                                            std::pow(double(pts.size()), 2));
+  if (spread.eigenvalues()(0) < 0.25) return std::numeric_limits<double>::quiet_NaN();
+  return A.ldlt().solve(b)(0);
 }
 
 }  // namespace fieldlidar::forest

@@ -35,7 +35,60 @@ void finish(const PointCloud& cloud, ScanSegment&& seg, const ScanSegmentConfig&
   out.push_back(std::move(seg));
 }
 
-// A ring: returns in azimuth order, cut at missed returns and at jumps.
+double horizontal_range(const Point& p) {
+  return std::hypot(p.x, p.y);
+}
+
+// Runs `a` and `b` of one ring (b after a in azimuth) are one stem seen on both sides of a nearer
+// occluder: every return between them is nearer than both facing ends by occluder_gap_m, no beam
+// is missed on the way, the facing ends lie at ranges a circle can give (within half their chord
+// plus noise), each side comes nearer towards the occluder and the whole stays narrower than 2U.
+bool bridges(const PointCloud& cloud, const std::vector<std::pair<double, std::uint32_t>>& order,
+             std::size_t a_first, std::size_t a_last, std::size_t b_first, std::size_t b_last,
+             const ScanSegmentConfig& c) {
+  const double max_gap = c.max_azimuth_gap_deg * std::numbers::pi / 180.0;
+  const auto& pa = cloud.points[order[a_last].second];
+  const auto& pb = cloud.points[order[b_first].second];
+  const double ra = horizontal_range(pa), rb = horizontal_range(pb);
+  // Across the line of sight: the depth of a circle's near side varies by at most its radius,
+  // and the facing ends are at least a radius apart only if they are a diameter apart.
+  const double across = 0.5 * (ra + rb) *
+                        std::abs(std::remainder(std::atan2(pb.y, pb.x) - std::atan2(pa.y, pa.x),
+                                                2 * std::numbers::pi));
+  if (std::abs(ra - rb) > 0.5 * across + c.bridge_range_tolerance_m) return false;
+  const auto& p0 = cloud.points[order[a_first].second];
+  const auto& p1 = cloud.points[order[b_last].second];
+  if (std::hypot(p0.x - p1.x, p0.y - p1.y) > 2.0 * c.max_radius_m) return false;
+  // Each side runs from the stem's free edge in towards its centre, behind the occluder: its
+  // returns come nearer on the way (a whole small stem beside the occluder bulges instead).
+  auto half_means = [&](std::size_t first, std::size_t last, double& outer, double& inner) {
+    const std::size_t n = last - first + 1, h = n / 2;
+    outer = inner = 0;
+    for (std::size_t k = 0; k < h; ++k) {
+      outer += horizontal_range(cloud.points[order[first + k].second]);
+      inner += horizontal_range(cloud.points[order[last - k].second]);
+    }
+  };
+  double outer = 0, inner = 0;
+  if (a_last > a_first) {
+    half_means(a_first, a_last, outer, inner);
+    if (inner > outer) return false;
+  }
+  if (b_last > b_first) {
+    half_means(b_first, b_last, inner, outer);
+    if (inner > outer) return false;
+  }
+  for (std::size_t k = a_last + 1; k <= b_first; ++k) {
+    if (order[k].first - order[k - 1].first > max_gap) return false;
+    if (k < b_first &&
+        horizontal_range(cloud.points[order[k].second]) > std::min(ra, rb) - c.occluder_gap_m)
+      return false;
+  }
+  return true;
+}
+
+// A ring: returns in azimuth order, cut at missed returns and at jumps; the two sides of a stem
+// split by a nearer occluder joined again.
 void segment_ring(const PointCloud& cloud, int ring, std::vector<std::uint32_t>& idx,
                   const ScanSegmentConfig& c, std::vector<ScanSegment>& out) {
   std::vector<std::pair<double, std::uint32_t>> order;
@@ -43,23 +96,46 @@ void segment_ring(const PointCloud& cloud, int ring, std::vector<std::uint32_t>&
   for (auto i : idx) order.emplace_back(std::atan2(cloud.points[i].y, cloud.points[i].x), i);
   std::sort(order.begin(), order.end());
   const double max_gap = c.max_azimuth_gap_deg * std::numbers::pi / 180.0;
-  ScanSegment seg;
-  seg.line = ring;
+  // Runs as [first, last] positions in `order`.
+  std::vector<std::pair<std::size_t, std::size_t>> runs;
   for (std::size_t k = 0; k < order.size(); ++k) {
+    bool cut = k == 0;
     if (k > 0) {
       const auto& a = cloud.points[order[k - 1].second];
       const auto& b = cloud.points[order[k].second];
       const double gap = order[k].first - order[k - 1].first;
       const double limit = c.max_point_gap_m + c.point_gap_per_m * std::hypot(a.x, a.y);
-      if (gap > max_gap || (a.xyz() - b.xyz()).norm() > limit) {
-        finish(cloud, std::move(seg), c, out, c.min_ring_points);
-        seg = ScanSegment{};
-        seg.line = ring;
+      cut = gap > max_gap || (a.xyz() - b.xyz()).norm() > limit;
+    }
+    if (cut)
+      runs.emplace_back(k, k);
+    else
+      runs.back().second = k;
+  }
+  std::vector<char> used(runs.size(), 0);
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (used[i]) continue;
+    ScanSegment seg;
+    seg.line = ring;
+    std::size_t cur = i;
+    for (std::size_t k = runs[i].first; k <= runs[i].second; ++k)
+      seg.indices.push_back(order[k].second);
+    for (bool joined = true; joined;) {
+      joined = false;
+      for (std::size_t m = cur + 2; m < runs.size() && m <= cur + 1 + c.max_bridged_runs; ++m) {
+        if (used[m] || !bridges(cloud, order, runs[i].first, runs[cur].second, runs[m].first,
+                                runs[m].second, c))
+          continue;
+        for (std::size_t k = runs[m].first; k <= runs[m].second; ++k)
+          seg.indices.push_back(order[k].second);
+        used[m] = 1;
+        cur = m;
+        joined = true;
+        break;
       }
     }
-    seg.indices.push_back(order[k].second);
+    finish(cloud, std::move(seg), c, out, c.min_ring_points);
   }
-  finish(cloud, std::move(seg), c, out, c.min_ring_points);
 }
 
 // A horizontal slice of an unorganised cloud: 2D clusters by a grid of slice_link_m cells.

@@ -11,6 +11,7 @@
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/forest/trunks.hpp"
 #include "ground_index.hpp"
+#include "silhouette.hpp"
 
 namespace fieldlidar::forest {
 namespace {
@@ -70,109 +71,6 @@ std::vector<Stem> join_stacks(std::span<const ScanSegment> segments,
   return stems;
 }
 
-// Every return of a sweep by ring, in azimuth order: what lies just beside a stem's edge.
-class RingIndex {
- public:
-  explicit RingIndex(const PointCloud& cloud) {
-    for (std::size_t i = 0; i < cloud.size(); ++i) {
-      const auto& p = cloud.points[i];
-      if (!p.is_valid() || p.ring == Point::kNoRing) continue;
-      if (p.ring >= rings_.size()) rings_.resize(p.ring + 1);
-      rings_[p.ring].emplace_back(std::atan2(p.y, p.x), std::hypot(p.x, p.y));
-    }
-    steps_.resize(rings_.size(), 0.0);
-    std::vector<double> gaps;
-    for (std::size_t k = 0; k < rings_.size(); ++k) {
-      auto& r = rings_[k];
-      std::sort(r.begin(), r.end());
-      gaps.clear();
-      for (std::size_t j = 1; j < r.size(); ++j) gaps.push_back(r[j].first - r[j - 1].first);
-      if (gaps.empty()) continue;
-      std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
-      steps_[k] = gaps[gaps.size() / 2];
-    }
-  }
-  /// Median azimuth step between neighbouring returns of a ring (rad); 0 when unknown.
-  double step(int ring) const {
-    return ring >= 0 && std::size_t(ring) < steps_.size() ? steps_[std::size_t(ring)] : 0.0;
-  }
-  /// Range of the nearest return beyond azimuth `az` (direction +1 or -1) within `window` rad;
-  /// +inf when there is none (a free line of sight).
-  double beside(int ring, double az, int direction, double window) const {
-    if (ring < 0 || std::size_t(ring) >= rings_.size()) return 1e30;
-    const auto& r = rings_[ring];
-    const double eps = 1e-7;
-    if (direction > 0) {
-      auto it = std::upper_bound(r.begin(), r.end(), std::make_pair(az + eps, 1e30));
-      return (it != r.end() && it->first <= az + window) ? it->second : 1e30;
-    }
-    auto it = std::lower_bound(r.begin(), r.end(), std::make_pair(az - eps, -1e30));
-    if (it == r.begin()) return 1e30;
-    --it;
-    return it->first >= az - window ? it->second : 1e30;
-  }
-
- private:
-  std::vector<std::vector<std::pair<double, double>>> rings_;
-  std::vector<double> steps_;
-};
-
-// Radius from the stem's silhouette seen from the sensor (at the origin of a sweep): on each scan
-// line, the angle between its outermost returns plus one azimuth step, and r = D sin(angle / 2)
-// at the axis distance D. Range noise does not enter it as it does a fit to a partial arc. An
-// edge whose neighbouring return is nearer is hidden by an occluder; a line with one hidden edge
-// uses its other half about the axis bearing, one with two is skipped. Median over the lines;
-// NaN with fewer than min_silhouette_lines.
-double silhouette_radius(const PointCloud& cloud, std::span<const ScanSegment> segments,
-                         const RingIndex& rings, const Stem& stem, const Cylinder& cyl,
-                         double base_z, const TreeConfig& c) {
-  const Eigen::Vector3d a = cyl.direction;
-  struct Line {
-    double lo, hi, bearing, dist, range;
-    int ring;
-  };
-  std::vector<Line> lines;
-  for (auto s : stem.segment_ids) {
-    const auto& seg = segments[s];
-    const double h = seg.centroid.z() - base_z;
-    if (std::abs(h - c.dbh_height_m) > c.dbh_window_m || rings.step(seg.line) <= 0) continue;
-    const Eigen::Vector3d on = cyl.point + a * ((seg.centroid.z() - cyl.point.z()) / a.z());
-    Line l{1e30, -1e30, std::atan2(on.y(), on.x()), on.head<2>().norm(), 1e30, seg.line};
-    std::vector<double> az;
-    for (auto i : seg.indices) {
-      const auto& p = cloud.points[i];
-      az.push_back(std::remainder(std::atan2(p.y, p.x) - l.bearing, 2 * std::numbers::pi));
-      l.range = std::min(l.range, double(std::hypot(p.x, p.y)));
-    }
-    std::sort(az.begin(), az.end());
-    l.lo = az.front();
-    l.hi = az.back();
-    lines.push_back(l);
-  }
-  if (lines.size() < c.min_silhouette_lines) return std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> r;
-  for (const auto& l : lines) {
-    const double step = rings.step(l.ring);
-    const double window = 2.5 * step, nearer = l.range - c.occluder_gap_m;
-    const bool lo_hidden = rings.beside(l.ring, l.bearing + l.lo, -1, window) < nearer;
-    const bool hi_hidden = rings.beside(l.ring, l.bearing + l.hi, +1, window) < nearer;
-    if (lo_hidden && hi_hidden) continue;
-    double half = (l.hi - l.lo + step) / 2;
-    if (lo_hidden) half = std::abs(l.hi) + step / 2;
-    if (hi_hidden) half = std::abs(l.lo) + step / 2;
-    r.push_back(l.dist * std::sin(half));
-  }
-  if (r.size() < c.min_silhouette_lines) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(r.begin(), r.end());
-  // Mean of the middle half: each line's width is quantised to whole azimuth steps, and the lines
-  // cross the stem at varied phases of that step (lean, taper), so a mean resolves less than a
-  // step where a median stays on one of the quantised values.
-  const std::size_t cut = r.size() / 4;
-  double sum = 0;
-  for (std::size_t k = cut; k < r.size() - cut; ++k) sum += r[k];
-  return sum / double(r.size() - 2 * cut);
-}
-
 // Share of the scan lines between a stem's lowest and highest that hold a segment of it: a
 // trunk fills most of them, a shrub or crown gives scattered hits.
 double line_fill(std::span<const ScanSegment> segments, const Stem& stem) {
@@ -204,13 +102,19 @@ std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const Scan
     const double zg_wide = ground.quantile_near(foot, c.ground_check_radius_m, 0.1);
     if (!std::isfinite(zg) || zg - zg_wide > c.max_ground_step_m) zg = zg_wide;
   }
+  double z_lowest = 1e30;
+  for (auto i : stem.points) z_lowest = std::min(z_lowest, double(cloud.points[i].z));
+  // A sweep whose view of the stem's foot is blocked (a shrub or a stem in front): the floor
+  // plane around it, which the lowest stem point bounds from above.
+  if (!std::isfinite(zg) && cloud.fields.ring)
+    zg = std::min(ground.plane_height_near(foot, c.ground_check_radius_m), z_lowest);
   t.ground_found = std::isfinite(zg);
-  if (!t.ground_found) {
-    zg = 1e30;
-    for (auto i : stem.points) zg = std::min(zg, double(cloud.points[i].z));
-  }
+  if (!t.ground_found) zg = z_lowest;
   if (stem.z_low - zg > c.max_base_height_m) return std::nullopt;  // a fork or crown branch
-  if (rings && line_fill(segments, stem) < c.min_line_fill) return std::nullopt;  // a shrub
+  // A shrub or crown gives scattered hits over a metre or more (a sweep's lines or a plot's
+  // slices).
+  if ((rings || c.plot_full_view) && line_fill(segments, stem) < c.min_line_fill)
+    return std::nullopt;
   // Stem points within the window around breast height, along the stacked axis.
   const Eigen::Vector3d base0 = axis_at_z(axis.point, a, zg);
   std::vector<Eigen::Vector3d> band;
@@ -227,10 +131,16 @@ std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const Scan
     }
   }
   if (band.size() < c.min_stem_points || h_max - h_min < c.min_extent_seen_m) return std::nullopt;
+  // A plot seen from all round sees its stems down to the floor: one that starts above breast
+  // height is a branch or a piece of crown, and its circle at 1.3 m would be drawn where nothing
+  // was seen.
+  if (!cloud.fields.ring && c.plot_full_view && h_min > c.plot_max_stem_start_m)
+    return std::nullopt;
   CylinderFitConfig fc = c.cylinder;
   fc.min_radius_m = c.min_radius_m;
   fc.max_radius_m = c.max_radius_m;
   fc.fit_direction = fc.fit_direction && band_hi - band_lo >= c.min_fit_span_m;
+  if (cloud.fields.ring) fc.start_bin_m = 0.0;  // a sweep's few lines a bin: one fit starts it
   const Cylinder cyl = fit_cylinder(band, axis_at_z(axis.point, a, zg + c.dbh_height_m), a, fc);
   const double max_residual = cloud.fields.ring ? c.max_residual_m : c.plot_max_residual_m;
   if (!cyl.ok || cyl.residual_m > max_residual) return std::nullopt;
@@ -250,8 +160,14 @@ std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const Scan
   t.base_m = axis_at_z(cyl.point, a, zg);
   t.dbh_m = 2 * cyl.radius_m;
   if (rings) {
-    const double r = silhouette_radius(cloud, segments, *rings, stem, cyl, zg, c);
-    if (!std::isfinite(r)) return std::nullopt;  // too few lines near breast height
+    const auto sil = silhouette_radius(cloud, segments, *rings, stem.segment_ids, cyl, zg, c);
+    double r = sil.radius_m;
+    if (!std::isfinite(r)) {
+      if (!std::isfinite(sil.guess_m)) return std::nullopt;  // too few lines near breast height
+      // Every line cut by an occluder over a narrow sliver: a guess, marked as such.
+      r = sil.guess_m;
+      t.dbh_uncertain = true;
+    }
     t.dbh_m = 2 * std::clamp(r, c.min_radius_m, c.max_radius_m);
     // The axis placed along the sensor's line of sight from the mean range of the stem's
     // returns: on a stem uniformly sampled across its visible width, the mean depth behind the

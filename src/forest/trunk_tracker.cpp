@@ -117,10 +117,12 @@ void TrunkTracker::update_map(std::span<const Tree> trees, std::span<const Trunk
   auto add = [&](MappedTrunk& m, std::size_t j) {
     const double w = weight_of(trees[j]);
     m.weight += w;
-    m.dbh_weighted_sum += w * current[j].dbh_m;
+    const double w_dbh = trees[j].dbh_uncertain ? 1e-3 * w : w;
+    m.dbh_weight += w_dbh;
+    m.dbh_weighted_sum += w_dbh * current[j].dbh_m;
     m.point_weighted_sum += w * (T * current[j].point);
     m.landmark.point = m.point_weighted_sum / m.weight;
-    m.landmark.dbh_m = m.dbh_weighted_sum / m.weight;
+    m.landmark.dbh_m = m.dbh_weighted_sum / m.dbh_weight;
     const Eigen::Vector3d a = T.linear() * current[j].axis;
     m.landmark.axis = (m.landmark.axis * (m.weight - w) + a * w).normalized();
     m.base_z_m = (m.base_z_m * (m.weight - w) + (T * trees[j].base_m).z() * w) / m.weight;
@@ -181,6 +183,7 @@ std::vector<Tree> TrunkTracker::map_trees() const {
     t.residual_m = m.residual_m;
     t.observations = m.observations;
     t.ground_found = true;
+    t.dbh_uncertain = m.dbh_weight < 0.01 * m.weight;  // no observation measured it
     out.push_back(t);
   }
   return out;

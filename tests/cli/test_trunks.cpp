@@ -38,12 +38,12 @@ TEST(CliTrunks, PinePlotTreesWithPlausibleDiametersAndNoOverwrite) {
   const auto rows = csv_rows(out / "trees.csv", header);
   EXPECT_EQ(header,
             "id,x_m,y_m,z_base_m,dbh_m,axis_x,axis_y,axis_z,height_seen_m,arc_deg,residual_m,"
-            "observations");
+            "observations,dbh_uncertain");
   // A 10 x 10 m plot of pines: about 16 stems a person would count, DBH 0.1-0.4 m.
   EXPECT_GE(rows.size(), 12u);
   EXPECT_LE(rows.size(), 22u);
   for (const auto& t : rows) {
-    ASSERT_EQ(t.size(), 12u);
+    ASSERT_EQ(t.size(), 13u);
     EXPECT_GE(t[1], -0.5);  // inside the plot (its own coordinates, 0..10 m)
     EXPECT_LE(t[1], 10.5);
     EXPECT_GE(t[2], -0.5);

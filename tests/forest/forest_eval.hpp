@@ -15,19 +15,36 @@
 
 namespace fieldlidar::forest::test {
 
+/// DBH figures leave out the detections marked dbh_uncertain (counted in `uncertain`, their
+/// error in dbh_all_rmse()); detection and position figures take every detection.
 struct Scores {
-  int truth = 0, detected = 0, matched = 0;
-  double dbh_sq = 0, dbh_sum = 0, pos_sq = 0;
+  int truth = 0, detected = 0, matched = 0, uncertain = 0;
+  double dbh_sq = 0, dbh_sum = 0, pos_sq = 0, dbh_sq_uncertain = 0;
   double recall() const { return truth ? double(matched) / truth : 1.0; }
   double precision() const { return detected ? double(matched) / detected : 1.0; }
-  double dbh_rmse() const { return matched ? std::sqrt(dbh_sq / matched) : 0.0; }
-  double dbh_bias() const { return matched ? dbh_sum / matched : 0.0; }
+  int dbh_scored() const { return matched - uncertain; }
+  double dbh_rmse() const { return dbh_scored() ? std::sqrt(dbh_sq / dbh_scored()) : 0.0; }
+  double dbh_bias() const { return dbh_scored() ? dbh_sum / dbh_scored() : 0.0; }
+  double dbh_all_rmse() const {
+    return matched ? std::sqrt((dbh_sq + dbh_sq_uncertain) / matched) : 0.0;
+  }
+  void add(const Scores& o) {
+    truth += o.truth;
+    detected += o.detected;
+    matched += o.matched;
+    uncertain += o.uncertain;
+    dbh_sq += o.dbh_sq;
+    dbh_sum += o.dbh_sum;
+    pos_sq += o.pos_sq;
+    dbh_sq_uncertain += o.dbh_sq_uncertain;
+  }
   double pos_rmse() const { return matched ? std::sqrt(pos_sq / matched) : 0.0; }
   void print(const char* name) const {
     std::printf(
         "%s: truth %d detected %d matched %d recall %.3f precision %.3f DBH RMSE %.4f m "
-        "bias %+.4f m position RMSE %.4f m\n",
-        name, truth, detected, matched, recall(), precision(), dbh_rmse(), dbh_bias(), pos_rmse());
+        "bias %+.4f m position RMSE %.4f m; DBH uncertain %d (RMSE with them %.4f m)\n",
+        name, truth, detected, matched, recall(), precision(), dbh_rmse(), dbh_bias(), pos_rmse(),
+        uncertain, dbh_all_rmse());
   }
 };
 
@@ -79,13 +96,19 @@ inline void score_frame(const sim::Scene& scene, const sim::SimFrame& frame,
     best->used = true;
     ++s.matched;
     const double e = d.dbh_m - best->dbh;
-    s.dbh_sq += e * e;
-    s.dbh_sum += e;
+    if (d.dbh_uncertain) {
+      ++s.uncertain;
+      s.dbh_sq_uncertain += e * e;
+    } else {
+      s.dbh_sq += e * e;
+      s.dbh_sum += e;
+    }
     s.pos_sq += best_d * best_d;
     if (std::getenv("FOREST_DEBUG"))
-      std::printf("    dbh %.3f true %.3f arc %.0f res %.4f obs %zu range %.1f\n", d.dbh_m,
-                  best->dbh, d.arc_deg, d.residual_m, d.observations,
-                  (p - sensor).head<2>().norm());
+      std::printf("    dbh %.3f true %.3f arc %.0f res %.4f obs %zu range %.1f at %.2f %.2f%s\n",
+                  d.dbh_m, best->dbh, d.arc_deg, d.residual_m, d.observations,
+                  (p - sensor).head<2>().norm(), best->xy.x(), best->xy.y(),
+                  d.dbh_uncertain ? " uncertain" : "");
   }
   if (std::getenv("FOREST_DEBUG")) {
     for (const auto& t : truth)
@@ -118,14 +141,10 @@ inline Scores run_frames(std::uint64_t seed, const SensorModel& sensor, int fram
     const auto ground = segmentation::segment_ground(frame.cloud, sensor);
     const auto result = extract_trees(frame.cloud, ground.is_ground, config);
     Scores one;
+    if (std::getenv("FOREST_DEBUG")) std::printf("  frame %d\n", f);
     score_frame(scene, frame, result.trees, one);
     if (verbose) one.print("  frame");
-    s.truth += one.truth;
-    s.detected += one.detected;
-    s.matched += one.matched;
-    s.dbh_sq += one.dbh_sq;
-    s.dbh_sum += one.dbh_sum;
-    s.pos_sq += one.pos_sq;
+    s.add(one);
   }
   return s;
 }

@@ -77,5 +77,50 @@ TEST(ForestFits, NanPointsAndNoGroundMakeNoTree) {
   EXPECT_FALSE(tracker.track(cloud, std::vector<std::uint8_t>(cloud.size(), 0)).tracked);
 }
 
+// One horizontal ring cast at circles (x, y, r) every 0.35 deg over +-8 deg, a wall at 20 m
+// behind: the returns a spinning sensor at the origin gets.
+PointCloud cast_ring(const std::vector<Eigen::Vector3d>& circles) {
+  PointCloud cloud;
+  cloud.fields.ring = true;
+  for (double deg = -8.0; deg <= 8.0; deg += 0.35) {
+    const Eigen::Vector2d u(std::cos(deg * std::numbers::pi / 180),
+                            std::sin(deg * std::numbers::pi / 180));
+    double best = 20.0;
+    for (const auto& c : circles) {
+      const double b = u.dot(c.head<2>()), d2 = c.head<2>().squaredNorm() - b * b;
+      if (d2 <= c.z() * c.z()) best = std::min(best, b - std::sqrt(c.z() * c.z() - d2));
+    }
+    Point p{float(best * u.x()), float(best * u.y()), 0.0f};
+    p.ring = 0;
+    cloud.push_back(p);
+  }
+  return cloud;
+}
+
+TEST(ForestFits, StemBehindANarrowerOneIsOneSegment) {
+  // A 0.6 m stem at 10 m behind a 0.16 m one at 6 m: its two sides make one segment.
+  const auto cloud = cast_ring({{10.0, 0.0, 0.3}, {6.0, 0.0, 0.08}});
+  const auto segs = segment_scan_lines(cloud, {});
+  int wide = 0;
+  for (const auto& s : segs)
+    if (s.centroid.head<2>().norm() > 9.0 && s.centroid.head<2>().norm() < 10.5) {
+      ++wide;
+      EXPECT_GT(s.width_m, 0.5);
+    }
+  EXPECT_EQ(wide, 1);
+  ScanSegmentConfig no_bridge;
+  no_bridge.max_bridged_runs = 0;
+  int parts = 0;
+  for (const auto& s : segment_scan_lines(cloud, {}, no_bridge))
+    parts += s.centroid.head<2>().norm() > 9.0 && s.centroid.head<2>().norm() < 10.5;
+  EXPECT_EQ(parts, 2);
+  // Two stems either side of the occluder at 10 and 10.8 m: not one circle, left apart.
+  const auto two = cast_ring({{10.0, 0.25, 0.08}, {10.8, -0.27, 0.08}, {6.0, 0.0, 0.08}});
+  int far = 0;
+  for (const auto& s : segment_scan_lines(two, {}))
+    far += s.centroid.head<2>().norm() > 9.0 && s.centroid.head<2>().norm() < 11.5;
+  EXPECT_EQ(far, 2);
+}
+
 }  // namespace
 }  // namespace fieldlidar::forest

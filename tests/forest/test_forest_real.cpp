@@ -15,12 +15,17 @@ namespace {
 TreeResult plot_trees(const std::string& file) {
   const PointCloud cloud = io::read_cloud(test::data_file(file));
   const auto ground = segmentation::ground_grid(cloud);
-  return extract_trees(cloud, ground.is_ground);
+  TreeConfig config;
+  config.plot_full_view = true;
+  return extract_trees(cloud, ground.is_ground, config);
 }
 
-// Not tuned on: the defaults come from the simulated seed 1. 16 trees are found in this 10x10 m
-// plot; 14 of them are long stems seen all round. The count has not been checked against a
-// person's count of the stems yet, so the bounds only hold the figures measured.
+// The defaults come from the simulated seed 1. In the PNG of the 1.2-1.4 m slice: 17 trees
+// before (13 on a stem, 2 about 0.4 m off, 2 on nothing, 1 stem missed). Two stems were dropped on
+// their fit residual (a branch whorl in the breast-height window pulled the start to r 0.26-0.28
+// m); the per-bin start recovers one (0.177 m). Trees starting 2.0 and 1.5 m above the ground
+// (one of them the 0.4 m off circle beside a missed stem) and a 15 m line of sparse slices are
+// dropped as a plot seen all round: 16 trees.
 TEST(ForestReal, PinePlot) {
   FIELDLIDAR_REQUIRE_DATA("forest_tls/pine_plot.las");
   const auto r = plot_trees("forest_tls/pine_plot.las");
@@ -35,9 +40,9 @@ TEST(ForestReal, PinePlot) {
         t.observations, t.z_min_seen_m, t.z_max_seen_m);
     plausible += t.dbh_m > 0.10 && t.dbh_m < 0.40 && t.arc_deg > 270 && t.observations >= 30;
   }
-  EXPECT_GE(r.trees.size(), 14u);
-  EXPECT_LE(r.trees.size(), 18u);
-  EXPECT_GE(plausible, 12);
+  EXPECT_GE(r.trees.size(), 14u);  // measured 16
+  EXPECT_LE(r.trees.size(), 17u);
+  EXPECT_GE(plausible, 13);
 }
 
 // dbh.las is a 10 cm stem slice with no ground: the grid ground takes all of it, so no tree is

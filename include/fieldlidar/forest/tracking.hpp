@@ -77,6 +77,7 @@ struct MappedTrunk {
   TrunkLandmark landmark;  ///< world frame
   double weight = 0.0;     ///< sum of the observation weights
   double dbh_weighted_sum = 0.0;
+  double dbh_weight = 0.0;  ///< an observation with dbh_uncertain weighs 1/1000 of its weight
   Eigen::Vector3d point_weighted_sum = Eigen::Vector3d::Zero();
   double base_z_m = 0.0;
   double height_seen_m = 0.0;

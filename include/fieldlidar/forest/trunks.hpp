@@ -22,6 +22,13 @@ struct ScanSegmentConfig {
   /// A scan line: a thin stem at range gets one return on most lines (a 10 cm stem at 13 m on a
   /// 1024-column sensor), so one return is a segment.
   std::size_t min_ring_points = 1;
+  /// A stem behind a nearer, narrower one is cut in two on each line; the two sides are one
+  /// segment again when everything between them is nearer by occluder_gap_m (up to
+  /// max_bridged_runs runs of the occluder) and their facing ends lie at ranges one circle can
+  /// give (within half their chord plus bridge_range_tolerance_m). 0 runs: no bridging.
+  std::size_t max_bridged_runs = 2;
+  double occluder_gap_m = 0.3;
+  double bridge_range_tolerance_m = 0.1;
   double min_range_m = 0.5;   ///< returns nearer than this (the robot) are ignored
   double max_range_m = 40.0;  ///< and farther than this
   /// Clouds with no ring field: horizontal slices of this thickness replace the scan lines; a
@@ -93,6 +100,10 @@ struct CylinderFitConfig {
   double trim_sigmas = 2.5;   ///< points farther than this many RMS residuals are dropped
   double min_trim_m = 0.02;   ///< but never those nearer than this
   std::size_t min_points = 6;
+  /// The start: median of circle fits in bins this tall along the initial axis when there are
+  /// three or more (a branch whorl pulls one bin's fit), and points trimmed on the median
+  /// absolute residual when it is below the RMS; 0: one fit of all points, RMS trim (sweeps).
+  double start_bin_m = 0.3;
 };
 
 struct Cylinder {
@@ -125,13 +136,21 @@ struct TreeConfig {
   std::size_t min_stem_points = 8;  ///< fewer in the window: not a tree
   double min_fit_span_m = 0.8;      ///< a shorter window span keeps the stacked axis direction
   double max_base_height_m = 3.0;   ///< the lowest segment must be within this of the ground
-  /// A sweep: the share of scan lines between a stem's lowest and highest that must hold one of
-  /// its segments (a shrub or crown gives a few scattered hits over a metre or more).
+  /// The share of scan lines (a sweep) or slices (a plot_full_view cloud) between a stem's
+  /// lowest and highest that must hold one of its segments (a shrub or crown gives a few
+  /// scattered hits over a metre or more).
   double min_line_fill = 0.4;
+  /// A cloud without rings scanned from all round (a TLS plot, not one robot sweep whose lower
+  /// stems undergrowth hides): its slices must fill min_line_fill too, and a stem whose lowest
+  /// point lies more than plot_max_stem_start_m above the ground is a branch or crown piece.
+  bool plot_full_view = false;
+  double plot_max_stem_start_m = 1.45;
   double ground_radius_m = 1.5;  ///< ground points within this of the axis give its base
   /// A cloud without rings: ground flagged on branches (a cell under a dense crown whose lowest
   /// return is not the floor) is caught as a base more than max_ground_step_m above the lowest
-  /// tenth of the ground within ground_check_radius_m, and moved down to it.
+  /// tenth of the ground within ground_check_radius_m, and moved down to it. A sweep with no
+  /// ground within ground_radius_m of a stem (its foot hidden) takes the height of the ground
+  /// plane fitted within ground_check_radius_m.
   double ground_check_radius_m = 6.0;
   double max_ground_step_m = 1.0;
   double merge_distance_m = 0.3;  ///< stacks whose axes pass this close at DBH are one tree
@@ -141,7 +160,10 @@ struct TreeConfig {
   /// outermost returns of each scan line plus one azimuth step, mean of the middle half of the
   /// lines near breast height), which range noise does not bias as it does a fit to a partial
   /// arc, and the axis placed on the line of sight at the returns' mean range plus pi/4 of that
-  /// radius. A stem with fewer silhouette lines is dropped. Plot files always use the fit.
+  /// radius. A line with one edge hidden by a nearer return measures only when what it sees
+  /// reaches a step past the axis bearing; otherwise it bounds the width from below. A stem with
+  /// fewer measuring lines is dropped, or, when occluded lines saw it, kept with dbh_uncertain.
+  /// Plot files always use the fit.
   bool silhouette_dbh = true;
   std::size_t min_silhouette_lines = 2;
   double occluder_gap_m = 0.3;  ///< a return beside a stem's edge this much nearer hides it
@@ -159,6 +181,10 @@ struct Tree {
   double residual_m = 0.0;       ///< RMS circle-fit residual there
   std::size_t observations = 0;  ///< scan lines (segments) on the stem
   bool ground_found = false;     ///< false: base from the lowest stem point
+  /// A sweep in which every scan line near breast height sees the stem cut by a nearer occluder
+  /// over a sliver too narrow to hold its axis bearing: dbh_m is a guess (the fitted radius, no
+  /// less than the visible width), to be left out of an inventory.
+  bool dbh_uncertain = false;
   /// Axis point at `h` metres above the base.
   Eigen::Vector3d at_height(double h) const { return base_m + axis * (h / axis.z()); }
 };

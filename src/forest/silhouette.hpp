@@ -1,0 +1,80 @@
+#pragma once
+// A stem's diameter from its silhouette in a sweep (sensor at the origin), and the per-ring index
+// of returns it needs to tell a free edge from one hidden by something nearer.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/forest/trunks.hpp"
+
+namespace fieldlidar::forest {
+
+// Every return of a sweep by ring, in azimuth order: what lies just beside a stem's edge.
+class RingIndex {
+ public:
+  explicit RingIndex(const PointCloud& cloud) {
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const auto& p = cloud.points[i];
+      if (!p.is_valid() || p.ring == Point::kNoRing) continue;
+      if (p.ring >= rings_.size()) rings_.resize(p.ring + 1);
+      rings_[p.ring].emplace_back(std::atan2(p.y, p.x), std::hypot(p.x, p.y));
+    }
+    steps_.resize(rings_.size(), 0.0);
+    std::vector<double> gaps;
+    for (std::size_t k = 0; k < rings_.size(); ++k) {
+      auto& r = rings_[k];
+      std::sort(r.begin(), r.end());
+      gaps.clear();
+      for (std::size_t j = 1; j < r.size(); ++j) gaps.push_back(r[j].first - r[j - 1].first);
+      if (gaps.empty()) continue;
+      std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+      steps_[k] = gaps[gaps.size() / 2];
+    }
+  }
+  /// Median azimuth step between neighbouring returns of a ring (rad); 0 when unknown.
+  double step(int ring) const {
+    return ring >= 0 && std::size_t(ring) < steps_.size() ? steps_[std::size_t(ring)] : 0.0;
+  }
+  /// Range of the nearest return beyond azimuth `az` (direction +1 or -1) within `window` rad;
+  /// +inf when there is none (a free line of sight).
+  double beside(int ring, double az, int direction, double window) const {
+    if (ring < 0 || std::size_t(ring) >= rings_.size()) return 1e30;
+    const auto& r = rings_[ring];
+    const double eps = 1e-7;
+    if (direction > 0) {
+      auto it = std::upper_bound(r.begin(), r.end(), std::make_pair(az + eps, 1e30));
+      return (it != r.end() && it->first <= az + window) ? it->second : 1e30;
+    }
+    auto it = std::lower_bound(r.begin(), r.end(), std::make_pair(az - eps, -1e30));
+    if (it == r.begin()) return 1e30;
+    --it;
+    return it->first >= az - window ? it->second : 1e30;
+  }
+
+ private:
+  std::vector<std::vector<std::pair<double, double>>> rings_;
+  std::vector<double> steps_;
+};
+
+/// What the silhouette tells of a stem's radius near breast height.
+struct SilhouetteRadius {
+  double radius_m = 0.0;       ///< NaN when no scan line measures it
+  double lower_bound_m = 0.0;  ///< from the visible width of lines cut by an occluder
+  /// With no measure: the median over occluded lines of the free edge's angle from the fitted
+  /// axis bearing, no less than lower_bound_m; NaN without such lines.
+  double guess_m = std::numeric_limits<double>::quiet_NaN();
+  std::size_t lines = 0;  ///< scan lines that measured it
+};
+
+/// Segments `segment_ids` of one stem whose centroid lies within dbh_window_m of breast height
+/// above base_z; `axis` is the fitted cylinder (its bearing splits a line cut by an occluder).
+SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const ScanSegment> segments,
+                                   const RingIndex& rings, std::span<const std::size_t> segment_ids,
+                                   const Cylinder& axis, double base_z, const TreeConfig& c);
+
+}  // namespace fieldlidar::forest
