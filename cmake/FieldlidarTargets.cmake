@@ -39,6 +39,9 @@ endfunction()
 # FIELDLIDAR_DATA_DIR as an environment variable and skip with a message when it is absent.
 # SLOW names single tests of the executable (gtest filter patterns) that get the "slow" label
 # instead: whole-recording runs that take minutes under the sanitizers and run in Release only.
+# With FIELDLIDAR_BUILD_SLOW_TESTS=OFF an executable labelled "slow" as a whole is left out of the
+# default build and registers no tests (the sanitizer stage of scripts/test.sh, which does not
+# run them).
 function(fieldlidar_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;SLOW" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
@@ -53,6 +56,10 @@ function(fieldlidar_add_test name)
   set(label unit)
   if(ARG_LABELS)
     list(GET ARG_LABELS 0 label)
+  endif()
+  if(label STREQUAL "slow" AND NOT FIELDLIDAR_BUILD_SLOW_TESTS)
+    set_target_properties(${name} PROPERTIES EXCLUDE_FROM_ALL TRUE)
+    return()
   endif()
   set(filter "")
   if(ARG_SLOW)
