@@ -96,21 +96,7 @@ SimFrame LidarSimulator::scan(double t0_s, const std::function<Pose(double)>& T_
       const Pose& T = poses.back();
       const Eigen::Vector3d o = T * b.origin.cast<double>();
       const Eigen::Vector3d d = T.linear() * b.dir.cast<double>();
-      RTCRayHit& rh = rays[k];
-      rh.ray.org_x = float(o.x());
-      rh.ray.org_y = float(o.y());
-      rh.ray.org_z = float(o.z());
-      rh.ray.dir_x = float(d.x());
-      rh.ray.dir_y = float(d.y());
-      rh.ray.dir_z = float(d.z());
-      rh.ray.tnear = 0.f;
-      rh.ray.tfar = float(sensor.max_range_m);
-      rh.ray.time = 0.f;
-      rh.ray.mask = ~0u;
-      rh.ray.id = static_cast<unsigned>(k);
-      rh.ray.flags = 0;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      detail::set_ray(rays[k], o, d, float(sensor.max_range_m), static_cast<unsigned>(k));
     }
     rtcIntersect1M(im.embree.scene, &ctx, rays.data(), static_cast<unsigned>(m), sizeof(RTCRayHit));
 

@@ -74,16 +74,7 @@ std::optional<LidarSimulator::Hit> LidarSimulator::cast(const Eigen::Vector3d& o
                                                         double max_range_m) const {
   const Eigen::Vector3d d = direction.normalized();
   RTCRayHit rh{};
-  rh.ray.org_x = float(origin_m.x());
-  rh.ray.org_y = float(origin_m.y());
-  rh.ray.org_z = float(origin_m.z());
-  rh.ray.dir_x = float(d.x());
-  rh.ray.dir_y = float(d.y());
-  rh.ray.dir_z = float(d.z());
-  rh.ray.tnear = 0.f;
-  rh.ray.tfar = float(max_range_m);
-  rh.ray.mask = ~0u;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  detail::set_ray(rh, origin_m, d, float(max_range_m), 0);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   rtcIntersect1(impl_->embree.scene, &ctx, &rh);

@@ -26,6 +26,21 @@ void plane(double slope_deg, double spacing, double phase, std::vector<Eigen::Ve
     }
 }
 
+/// Level ground every 0.1 m, alone and with a person's returns (0.2-0.9 m up) at (5.2, 5.2).
+struct LevelGroundWithPerson {
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::uint8_t> ground;
+  std::vector<Eigen::Vector3d> with_person;
+  std::vector<std::uint8_t> g_person;
+  LevelGroundWithPerson() {
+    plane(0.0, 0.1, 0.05, pts, ground);
+    with_person = pts;
+    g_person = ground;
+    for (double z = 0.2; z < 1.0; z += 0.1)
+      with_person.emplace_back(5.2, 5.2, z), g_person.push_back(0);
+  }
+};
+
 }  // namespace
 
 TEST(TerrainFusionCells, TwoSparseScansMakeOneDenseMap) {
@@ -60,13 +75,8 @@ TEST(TerrainFusionCells, TwoSparseScansMakeOneDenseMap) {
 
 TEST(TerrainFusionCells, ObstacleEvidenceDecaysWhenTheGroundIsSeenAgain) {
   TerrainMap map;
-  std::vector<Eigen::Vector3d> pts;
-  std::vector<std::uint8_t> ground;
-  plane(0.0, 0.1, 0.05, pts, ground);
-  std::vector<Eigen::Vector3d> with_person = pts;
-  std::vector<std::uint8_t> g_person = ground;
-  for (double z = 0.2; z < 1.0; z += 0.1)
-    with_person.emplace_back(5.2, 5.2, z), g_person.push_back(0);
+  const LevelGroundWithPerson scene;
+  const auto& [pts, ground, with_person, g_person] = scene;
   const Eigen::Vector2d c(5.25, 5.25);
   map.add_points(with_person, g_person, {0, 0, 1});
   EXPECT_EQ(*map.global_map().value_at(layer::kObstacleProjected, c), 1.0f);
@@ -81,13 +91,8 @@ TEST(TerrainFusionCells, ObstacleEvidenceDecaysWhenTheGroundIsSeenAgain) {
 // later (10 Hz) the cell stays free (-0.7 + 0.2 * 0.85 < 0); after five such sweeps it blocks;
 // scans without stamps, or 0.5 s apart, count whole (one hit: -0.7 + 0.85 > 0).
 TEST(TerrainFusionCells, EvidenceCountsPerTimeNotPerSweep) {
-  std::vector<Eigen::Vector3d> pts;
-  std::vector<std::uint8_t> ground;
-  plane(0.0, 0.1, 0.05, pts, ground);
-  std::vector<Eigen::Vector3d> with_person = pts;
-  std::vector<std::uint8_t> g_person = ground;
-  for (double z = 0.2; z < 1.0; z += 0.1)
-    with_person.emplace_back(5.2, 5.2, z), g_person.push_back(0);
+  const LevelGroundWithPerson scene;
+  const auto& [pts, ground, with_person, g_person] = scene;
   const Eigen::Vector2d c(5.25, 5.25);
   const auto blocked = [&](const TerrainMap& m) {
     return *m.global_map().value_at(layer::kObstacleProjected, c) == 1.0f;
