@@ -20,8 +20,10 @@ TEST(ForestSim, DISABLED_Survey) {
   TreeConfig config;
   if (const char* b = std::getenv("FOREST_BRIDGED_RUNS"))
     config.segments.max_bridged_runs = std::size_t(std::atoi(b));
+  ScoreRule rule;
+  if (const char* v = std::getenv("FOREST_MIN_VISIBLE")) rule.min_visible = std::atof(v);
   const auto s = run_frames(seed ? std::atoi(seed) : 7, sensor, frames ? std::atoi(frames) : 10,
-                            config, std::getenv("FOREST_DEBUG") != nullptr);
+                            config, std::getenv("FOREST_DEBUG") != nullptr, rule);
   s.print((name + " seed " + (seed ? seed : "7")).c_str());
 }
 
