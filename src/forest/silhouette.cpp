@@ -52,8 +52,9 @@ SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const Scan
     if ((lo_hidden ? -lo : hi) >= step) measured.push_back(half);
   }
   if (!bounds.empty()) {
-    std::nth_element(bounds.begin(), bounds.begin() + bounds.size() / 2, bounds.end());
-    out.lower_bound_m = bounds[bounds.size() / 2];
+    // The second widest: one line widened by a branch beside the occluder bounds nothing.
+    std::sort(bounds.begin(), bounds.end());
+    if (bounds.size() >= 2) out.lower_bound_m = bounds[bounds.size() - 2];
   }
   // A line narrower than what the occluded lines show was cut short in height (the top of a
   // shrub across it, a missed return) and says nothing of the width.

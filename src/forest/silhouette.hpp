@@ -63,8 +63,9 @@ class RingIndex {
 
 /// What the silhouette tells of a stem's radius near breast height.
 struct SilhouetteRadius {
-  double radius_m = 0.0;       ///< NaN when no scan line measures it
-  double lower_bound_m = 0.0;  ///< from the visible width of lines cut by an occluder
+  double radius_m = 0.0;  ///< NaN when no scan line measures it
+  /// The visible width of lines cut by an occluder: the second widest (0 with fewer than two).
+  double lower_bound_m = 0.0;
   /// With no measure: the median over occluded lines of the free edge's angle from the fitted
   /// axis bearing, no less than lower_bound_m; NaN without such lines.
   double guess_m = std::numeric_limits<double>::quiet_NaN();
