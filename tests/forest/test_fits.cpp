@@ -1,5 +1,6 @@
 // Circle and axis fits on partial arcs with noise and outliers.
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -120,6 +121,53 @@ TEST(ForestFits, StemBehindANarrowerOneIsOneSegment) {
   for (const auto& s : segment_scan_lines(two, {}))
     far += s.centroid.head<2>().norm() > 9.0 && s.centroid.head<2>().norm() < 11.5;
   EXPECT_EQ(far, 2);
+}
+
+// Horizontal rings at heights z0, z0 + dz, ... cast like cast_ring; circles (x, y, r) stand on
+// every ring, `extra(k)` adds circles on ring k only. Flat ground returns (flagged) around.
+PointCloud cast_rings(int rings, double z0, double dz, const std::vector<Eigen::Vector3d>& circles,
+                      const std::function<std::vector<Eigen::Vector3d>(int)>& extra,
+                      std::vector<std::uint8_t>& is_ground) {
+  PointCloud cloud;
+  cloud.fields.ring = true;
+  is_ground.clear();
+  for (int k = 0; k < rings; ++k) {
+    auto all = circles;
+    for (const auto& c : extra(k)) all.push_back(c);
+    const PointCloud ring = cast_ring(all);
+    for (auto p : ring.points) {
+      p.z = float(z0 + dz * k);
+      p.ring = std::uint16_t(k + 1);
+      cloud.push_back(p);
+      is_ground.push_back(0);
+    }
+  }
+  for (double x = 4.0; x <= 12.0; x += 0.25)
+    for (double y = -3.0; y <= 3.0; y += 0.25) {
+      Point p{float(x), float(y), 0.0f};
+      p.ring = 0;
+      cloud.push_back(p);
+      is_ground.push_back(1);
+    }
+  return cloud;
+}
+
+TEST(ForestFits, OneBranchWidenedLineBesideAnOccluderBoundsNothing) {
+  // A 0.30 m stem at 8 m seen free on every line from 0.3 to 2.5 m, but on the line at 2.1 m a
+  // branch stub at its left edge widens it and a thin stem at 5 m hides what lies beyond: that
+  // one line's visible width (about 0.35 m) is no lower bound on the diameter.
+  std::vector<std::uint8_t> ground;
+  const auto cloud = cast_rings(
+      12, 0.3, 0.2, {{8.0, 0.0, 0.15}},
+      [](int k) {
+        return k == 9 ? std::vector<Eigen::Vector3d>{{7.97, 0.19, 0.05}, {5.0, 0.17, 0.03}}
+                      : std::vector<Eigen::Vector3d>{};
+      },
+      ground);
+  const auto r = extract_trees(cloud, ground);
+  ASSERT_EQ(r.trees.size(), 1u);
+  EXPECT_FALSE(r.trees[0].dbh_uncertain);
+  EXPECT_NEAR(r.trees[0].dbh_m, 0.30, 0.02);
 }
 
 }  // namespace
