@@ -60,6 +60,12 @@ NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
     throw Error(
         "navigate: control_period_s must be in (0, 1], scan_period_s in "
         "[control_period_s, 10] and replan_period_s > 0");
+  if (!(std::abs(config.lidar_pitch_deg) <= 30.0) || !(config.start_look_rad >= 0.0) ||
+      !std::isfinite(config.start_look_rad) || !(config.look_yaw_rate_rad_s > 0.0))
+    throw Error(fmt::format(
+        "navigate: lidar_pitch_deg must be in [-30, 30] (is {}), start_look_rad finite and >= 0 "
+        "(is {}), look_yaw_rate_rad_s > 0 (is {})",
+        config.lidar_pitch_deg, config.start_look_rad, config.look_yaw_rate_rad_s));
   detail::Loop loop(scene, sensor, config);
   return loop.run(start, goal);
 }

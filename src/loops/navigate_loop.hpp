@@ -74,7 +74,9 @@ class Loop {
   double blind_radius_m_ = 0;  ///< no ground return nearer the sensor than this (m)
   bool map_updated_ = false, done_ = false;
   bool creeping_ = false;  ///< following the cold start's creep
-  std::string pending_;    ///< a re-plan asked for by the last control step
+  double looked_rad_ = 0;  ///< turned in place so far by the start look (start_look_rad)
+  bool looking() const { return looked_rad_ < cfg_.start_look_rad; }
+  std::string pending_;  ///< a re-plan asked for by the last control step
   int unreachable_votes_ = 0, planner_failures_ = 0, off_goal_plans_ = 0;
   NavigateState state_ = NavigateState::kPlanning;
 };

@@ -27,6 +27,7 @@ void Loop::score_truth_plan() {
 }
 
 std::string Loop::replan_trigger() {
+  if (looking()) return "";  // the first plan waits for the start look
   if (!pending_.empty()) return std::exchange(pending_, "");
   if (!follower_.has_path()) return map_updated_ ? (r_.plans.empty() ? "start" : "retry") : "";
   if (map_updated_) {

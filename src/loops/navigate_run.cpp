@@ -19,7 +19,7 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
                  cfg_.pose_source == PoseSource::kOdometry
                      ? std::optional<odometry::OdometryConfig>(cfg_.odometry)
                      : std::nullopt,
-                 cfg_.streams);
+                 cfg_.streams, cfg_.lidar_pitch_deg * M_PI / 180.0);
   r_.goal = goal_ = goal;
   const auto& L = cfg_.fusion.layers;
   truth_ = scene_.terrain_truth({.resolution_m = L.cell_m,
@@ -47,7 +47,11 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
     map_updated_ = false;
     if (done_) break;
     planning::DriveCommand cmd;
-    if (follower_.has_path()) {
+    if (looking()) {  // turn in place; the first plan follows
+      cmd.yaw_rate_rad_s = cfg_.look_yaw_rate_rad_s;
+      looked_rad_ += cfg_.look_yaw_rate_rad_s * dt;
+      if (!looking()) pending_ = "start";
+    } else if (follower_.has_path()) {
       cmd = follower_.command(me(), v_, dt);
       if (creeping_) {
         cmd.v_m_s = std::clamp(cmd.v_m_s, -cfg_.creep_speed_m_s, cfg_.creep_speed_m_s);
@@ -83,7 +87,8 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
                       planning::integrate_unicycle(me(), cmd.v_m_s, cmd.yaw_rate_rad_s, dt))) {
       cmd.v_m_s = cmd.yaw_rate_rad_s = 0.0;  // emergency stop, then re-plan
       next = pose_;
-      pending_ = "safety_stop";
+      pending_ = looking() ? "start" : "safety_stop";
+      looked_rad_ = std::max(looked_rad_, cfg_.start_look_rad);  // a blocked look ends there
       state_ = NavigateState::kSafetyStop;
       if (++r_.safety_stops > cfg_.max_safety_stops)
         finish(NavigateOutcome::kFailed,
