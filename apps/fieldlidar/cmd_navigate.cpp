@@ -40,6 +40,8 @@ struct NavigateOptions {
   double shadow_radius_m = loops::NavigateConfig{}.shadow_radius_m;
   double unknown_tau = loops::NavigateConfig{}.planner.map.unknown_tau;
   double start_creep_m = loops::NavigateConfig{}.start_creep_m;
+  double lidar_pitch_deg = loops::NavigateConfig{}.lidar_pitch_deg;
+  double start_look_rad = loops::NavigateConfig{}.start_look_rad;
   bool force = false;
 };
 
@@ -114,6 +116,8 @@ void run(const NavigateOptions& o) {
   cfg.shadow_radius_m = o.shadow_radius_m;
   cfg.planner.map.unknown_tau = o.unknown_tau;
   cfg.start_creep_m = o.start_creep_m;
+  cfg.lidar_pitch_deg = o.lidar_pitch_deg;
+  cfg.start_look_rad = o.start_look_rad;
   const auto pose_source = loops::pose_source_from_string(o.pose_source);
   if (!pose_source)
     throw Error("--pose-source '" + o.pose_source + "': expected odometry or truth");
@@ -166,6 +170,8 @@ void run(const NavigateOptions& o) {
                               {"max_slope_deg", cfg.fusion.layers.robot.max_slope_deg},
                               {"max_step_m", cfg.fusion.layers.robot.max_step_m},
                               {"min_turn_radius_m", cfg.fusion.layers.robot.min_turn_radius_m}}}};
+    extra["lidar_pitch_deg"] = cfg.lidar_pitch_deg;
+    extra["start_look_rad"] = cfg.start_look_rad;
     if (!p.expect.empty()) extra["expected"] = p.expect;
     write_navigate_run(dir, r, extra,
                        fmt::format("fieldlidar navigate: terrain seed {}, {}: {} ({:.1f} m driven, "
@@ -240,6 +246,19 @@ void add_navigate_command(CLI::App& app) {
                   "ground; lower: unknown ground costs more, never forbidden)")
       ->capture_default_str()
       ->check(real_in(0.01, 1));
+  cmd->add_option("--lidar-pitch", o->lidar_pitch_deg,
+                  "The LiDAR mount's pitch (deg, positive: nose down; 0: level). Pitched "
+                  "forward, the lowest beams meet the ground nearer ahead (10 deg: 2.6 m rather "
+                  "than 4.5 m on the 1.2 m mast) and farther behind")
+      ->capture_default_str()
+      ->check(real_in(-15, 15));
+  cmd->add_option("--start-look", o->start_look_rad,
+                  "Cold start: turn in place this much (rad, counter-clockwise) before the first "
+                  "plan, so a pitched LiDAR sweeps the ground round the start; 0: off. The turn "
+                  "stops before a known-impassable cell, but the swept corners cross ground no "
+                  "roof LiDAR sees")
+      ->capture_default_str()
+      ->check(real_in(0, 4 * M_PI));
   cmd->add_option("--start-creep", o->start_creep_m,
                   "Cold start: creep straight this far (m) before the first plan, so the ground "
                   "beside the start (in the LiDAR's blind disk) is seen from a second pose; -1: "

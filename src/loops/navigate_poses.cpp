@@ -12,14 +12,15 @@ namespace fieldlidar::loops {
 NavigatePoses::NavigatePoses(const sim::Scene& scene, const SensorModel& sensor,
                              const planning::Pose2& start,
                              std::optional<odometry::OdometryConfig> odometry,
-                             const MotionStreamsConfig& streams)
-    : scene_(scene), estimate_(start) {
+                             const MotionStreamsConfig& streams, double lidar_pitch_rad)
+    : scene_(scene), lidar_pitch_rad_(lidar_pitch_rad), estimate_(start) {
   if (odometry) odometry_.emplace(sensor, scene.sensor_height_m(), *odometry, streams);
 }
 
 Pose NavigatePoses::lidar_pose(const planning::Pose2& p) const {
   return sim::pose_on_ground(scene_, {p.x_m, p.y_m}, p.yaw_rad) *
-         Eigen::Translation3d(0, 0, scene_.sensor_height_m());
+         Eigen::Translation3d(0, 0, scene_.sensor_height_m()) *
+         Eigen::AngleAxisd(lidar_pitch_rad_, Eigen::Vector3d::UnitY());
 }
 
 Pose NavigatePoses::base_at(double t_s) const {

@@ -67,6 +67,14 @@ TEST(Navigate, BadInputIsAnError) {
   bad.fusion.layers.robot.min_turn_radius_m = 0.0;
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
                Error);
+  bad = {};
+  bad.lidar_pitch_deg = 40.0;
+  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
+               Error);
+  bad = {};
+  bad.start_look_rad = NAN;
+  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
+               Error);
 }
 
 // A goal whose footprint a blocked cell (an obstacle's halo) touches is moved to the nearest free
@@ -111,6 +119,31 @@ TEST(Navigate, StartCreepGoesStraightFirst) {
     if (row.t_s < r.plans[1].t_s) {
       EXPECT_LE(std::abs(row.v_m_s), cfg.creep_speed_m_s + 1e-9);
     }
+  EXPECT_EQ(r.frames_on_impassable, 0u);
+  EXPECT_LE(r.length_ratio, 1.15);
+}
+
+// The start look with a LiDAR pitched 10 deg forward: the robot turns once in place (at the look
+// rate, its position unchanged) before the first plan, then plans, drives and arrives.
+TEST(Navigate, StartLookTurnsInPlaceBeforeTheFirstPlan) {
+  loops::NavigateConfig cfg;
+  cfg.lidar_pitch_deg = 10.0;
+  cfg.start_look_rad = 2.0 * std::numbers::pi;
+  const auto r = loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {16, 20, 0}, cfg);
+  print("along_route, pitched, look", r);
+  EXPECT_EQ(r.outcome, loops::NavigateOutcome::kArrived) << r.reason;
+  ASSERT_FALSE(r.plans.empty());
+  EXPECT_EQ(r.plans[0].trigger, "start");
+  EXPECT_GE(r.plans[0].t_s, cfg.start_look_rad / cfg.look_yaw_rate_rad_s - 0.15);
+  double turned = 0.0;
+  for (const auto& row : r.rows)
+    if (row.t_s < r.plans[0].t_s) {
+      EXPECT_EQ(row.x_m, 3.0);
+      EXPECT_EQ(row.y_m, 20.0);
+      EXPECT_EQ(row.v_m_s, 0.0);
+      turned += row.yaw_rate_rad_s * cfg.control_period_s;
+    }
+  EXPECT_NEAR(turned, cfg.start_look_rad, cfg.look_yaw_rate_rad_s * cfg.control_period_s + 1e-9);
   EXPECT_EQ(r.frames_on_impassable, 0u);
   EXPECT_LE(r.length_ratio, 1.15);
 }

@@ -4,6 +4,7 @@
 // truth-impassable cell, and the driven length is <= 1.15 x the Hybrid A* path planned on the
 // truth map, except the known gaps below.
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -146,5 +147,37 @@ TEST(NavigatePairs, OdometryPosesSeed0) {
     EXPECT_LE(r.length_ratio, 1.15) << p.name;
     EXPECT_LE(r.max_pose_error_m, 0.35) << p.name;
     EXPECT_GT(r.max_pose_error_m, 0.0) << p.name;  // the estimate is the robot's, not the truth
+  }
+}
+
+// The LiDAR pitched 10 deg forward and a full turn in place before the first plan (off by
+// default: ne_to_hill on seed 0 ends unreachable with it, see NavigateConfig::start_look_rad) on
+// the two pairs it fixes on both sensor-noise seeds measured: seed 1 (held out) round_terrace
+// keeps off the terrace's cliff (33 frames level; 0 with the look, ratio 1.022, 1.054 with sensor
+// noise seed 2) and seed 0 round_ditch sees the ditch before heading at it (1.223 level; 1.064,
+// 1.038 with noise seed 2).
+TEST(NavigatePairs, PitchedLookRoundTerraceAndDitch) {
+  loops::NavigateConfig cfg;
+  cfg.planner.time_budget_ms = 4000.0;
+  cfg.lidar_pitch_deg = 10.0;
+  cfg.start_look_rad = 6.3;
+  struct Case {
+    const char* file;
+    std::uint64_t seed;
+    const char* name;
+  };
+  for (const Case& c : {Case{FIELDLIDAR_NAVIGATE_PAIRS_SEED1, 1, "round_terrace"},
+                        Case{FIELDLIDAR_NAVIGATE_PAIRS, 0, "round_ditch"}}) {
+    const sim::Scene scene = sim::make_terrain_scene({}, c.seed);
+    for (const auto& p : read_pairs(c.file)) {
+      if (p.name != c.name) continue;
+      const auto r = loops::run_navigate(scene, SensorModel::vlp16(), p.start, p.goal, cfg);
+      std::printf("seed %llu %-14s %-11s ratio %.3f, %zu frames on impassable\n",
+                  static_cast<unsigned long long>(c.seed), p.name.c_str(),
+                  loops::to_string(r.outcome), r.length_ratio, r.frames_on_impassable);
+      EXPECT_EQ(r.outcome, loops::NavigateOutcome::kArrived) << p.name << ": " << r.reason;
+      EXPECT_EQ(r.frames_on_impassable, 0u) << p.name;
+      EXPECT_LE(r.length_ratio, 1.15) << p.name;
+    }
   }
 }

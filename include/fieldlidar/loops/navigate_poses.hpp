@@ -20,7 +20,7 @@ class NavigatePoses {
   /// `odometry`: nullopt for the truth.
   NavigatePoses(const sim::Scene& scene, const SensorModel& sensor, const planning::Pose2& start,
                 std::optional<odometry::OdometryConfig> odometry,
-                const MotionStreamsConfig& streams);
+                const MotionStreamsConfig& streams, double lidar_pitch_rad = 0.0);
 
   /// The pose the robot believes (the truth without odometry).
   const planning::Pose2& estimate() const { return estimate_; }
@@ -45,6 +45,7 @@ class NavigatePoses {
   Pose base_at(double t_s) const;
 
   const sim::Scene& scene_;
+  double lidar_pitch_rad_ = 0;  ///< the mount's pitch (positive: nose down)
   std::optional<OdometryPoseSource> odometry_;
   planning::Pose2 estimate_;
   Pose T_world_odom_ = Pose::Identity();

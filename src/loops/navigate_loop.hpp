@@ -1,0 +1,84 @@
+#pragma once
+// The navigate loop's state in one object (navigate.hpp): its steps are members, defined by idea in
+// navigate.cpp (set-up and entry), navigate_run.cpp (the control loop), navigate_replan.cpp (when
+// and how to plan) and navigate_sense.cpp (the sweep, the footprint checks). Private to loops/.
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fieldlidar/loops/navigate.hpp"
+#include "fieldlidar/loops/navigate_poses.hpp"
+#include "fieldlidar/planning/planner_for_robot.hpp"
+#include "fieldlidar/sim/lidar_simulator.hpp"
+
+namespace fieldlidar::loops::detail {
+
+using planning::PlanStatus;
+using planning::Pose2;
+using Clock = std::chrono::steady_clock;
+
+inline double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/// The loop's state in one object; each step is a member so that run() reads like the loop.
+class Loop {
+ public:
+  Loop(const sim::Scene& scene, const SensorModel& sensor, const NavigateConfig& config);
+
+  NavigateResult run(const Pose2& start, const Pose2& goal);
+
+ private:
+  void score_truth_plan();
+  void scan();
+  std::string replan_trigger();
+  void plan(const std::string& trigger);
+  /// The cold start's straight creep (NavigateConfig::start_creep_m) as the first plan; false
+  /// when it is off or both lanes are blocked.
+  bool start_creep();
+  /// True when the next pose's footprint would enter a cell the map knows to be impassable that
+  /// the robot does not already stand on.
+  bool enters_known_blocked(const Pose2& next) const;
+  bool on_truth_impassable(const Pose2& pose) const;
+  void finish(NavigateOutcome outcome, std::string reason, NavigateState state) {
+    r_.outcome = outcome;
+    r_.reason = std::move(reason);
+    state_ = state;
+    done_ = true;
+  }
+
+  const sim::Scene& scene_;
+  const SensorModel& sensor_;
+  NavigateConfig cfg_;
+  terrain::RobotConfig robot_;
+  planning::PlannerConfig planner_cfg_;
+  sim::LidarSimulator lidar_;
+  terrain::TerrainMap map_;
+  planning::PathFollower follower_;
+  GridGeometry area_;
+  Grid2D truth_;
+  std::vector<std::uint8_t> truth_blocked_, blocked_;
+  Grid2D grid_;                                       ///< the fused map on the area (planner input)
+  std::unique_ptr<planning::PlanningMap> check_map_;  ///< the planner's view of grid_
+  std::vector<double> step_costs_;  ///< the current plan's step costs when it was made
+  NavigateResult r_;
+  Pose2 pose_, goal_;                   ///< pose_: the truth (motion, scoring)
+  std::optional<NavigatePoses> poses_;  ///< the pose the robot works with (me())
+  const Pose2& me() const { return poses_->estimate(); }
+  double t_ = 0, v_ = 0, last_plan_t_ = -1e9, scan_ms_ = 0, plan_ms_ = 0;
+  double blind_radius_m_ = 0;  ///< no ground return nearer the sensor than this (m)
+  bool map_updated_ = false, done_ = false;
+  bool creeping_ = false;  ///< following the cold start's creep
+  double looked_rad_ = 0;  ///< turned in place so far by the start look (start_look_rad)
+  bool looking() const { return looked_rad_ < cfg_.start_look_rad; }
+  std::string pending_;  ///< a re-plan asked for by the last control step
+  int unreachable_votes_ = 0, planner_failures_ = 0, off_goal_plans_ = 0;
+  NavigateState state_ = NavigateState::kPlanning;
+};
+
+}  // namespace fieldlidar::loops::detail

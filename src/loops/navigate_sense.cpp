@@ -1,0 +1,38 @@
+// The navigate loop's senses: one sweep mapped (and the planner's view of the map rebuilt), the
+// robot's footprint against the built map (the emergency stop) and against the truth (the score).
+
+#include <algorithm>
+
+#include "fieldlidar/loops/navigate_maps.hpp"
+#include "navigate_loop.hpp"
+
+namespace fieldlidar::loops::detail {
+
+void Loop::scan() {
+  const auto t0 = Clock::now();
+  const sim::SimFrame frame = lidar_.scan(t_, poses_->lidar_pose(pose_));
+  map_.add_scan(frame.cloud, sensor_, poses_->place_sweep(frame.cloud, t_, pose_));
+  grid_ = area_grid(map_, area_, cfg_.seen_no_ground_points, {me().x_m, me().y_m}, blind_radius_m_);
+  blocked_ = known_blocked(grid_);
+  check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);
+  map_updated_ = true;
+  ++r_.scans;
+  scan_ms_ += ms_since(t0);
+}
+
+bool Loop::enters_known_blocked(const Pose2& next) const {
+  const auto now = footprint_cells(area_, me(), robot_);
+  for (long c : footprint_cells(area_, next, robot_)) {
+    if (c < 0) return std::find(now.begin(), now.end(), c) == now.end();
+    if (blocked_[std::size_t(c)] && std::find(now.begin(), now.end(), c) == now.end()) return true;
+  }
+  return false;
+}
+
+bool Loop::on_truth_impassable(const Pose2& pose) const {
+  for (long c : footprint_cells(area_, pose, robot_))
+    if (c < 0 || truth_blocked_[std::size_t(c)]) return true;
+  return false;
+}
+
+}  // namespace fieldlidar::loops::detail
