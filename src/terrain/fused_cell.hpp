@@ -30,11 +30,18 @@ struct PlaneSums {
     S += p * p.transpose();
   }
   /// Adds `o`, whose points are `offset` away from this frame (p_here = p_there + offset).
+  /// Written out per coefficient (the outer products as Eigen expressions made temporaries; this
+  /// is the same arithmetic in the same order, so the same sums): the voxel window adds nine.
   void add_shifted(const PlaneSums& o, const Eigen::Vector3d& offset) {
     n += o.n;
-    s += o.s + o.n * offset;
-    S += o.S + o.s * offset.transpose() + offset * o.s.transpose() +
-         o.n * offset * offset.transpose();
+    double v[3];  // o.n * offset
+    for (int i = 0; i < 3; ++i) {
+      v[i] = o.n * offset[i];
+      s[i] += o.s[i] + v[i];
+    }
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i)
+        S(i, j) += o.S(i, j) + o.s[i] * offset[j] + offset[i] * o.s[j] + v[i] * offset[j];
   }
   Eigen::Vector3d mean() const { return s / n; }
   Eigen::Matrix3d covariance() const {
