@@ -95,7 +95,12 @@ struct FusedCell {
     else if (dz > top[1])
       top[1] = dz;
   }
+  /// The normal of the cell's own returns once derive_cell needed it, until they change (a cell
+  /// is derived again whenever a neighbour in its window changes, its own plane mostly not).
+  Eigen::Vector3d own_normal = Eigen::Vector3d::UnitZ();
+  bool own_normal_fresh = false;
   void refresh_moments() {
+    own_normal_fresh = false;
     mean = ground.mean();
     covariance = ground.covariance();
   }

@@ -150,7 +150,11 @@ void derive_cell(const CellBlock& store, int ix, int iy, int half, const FusionC
   const Eigen::Vector3d centroid = window.mean();
   const Eigen::Vector3d window_normal = plane_normal(window);
   const bool own_plane = cell->ground.n >= config.min_own_plane_points;
-  const Eigen::Vector3d normal = own_plane ? plane_normal(cell->ground) : window_normal;
+  if (own_plane && !cell->own_normal_fresh) {
+    cell->own_normal = plane_normal(cell->ground);
+    cell->own_normal_fresh = true;
+  }
+  const Eigen::Vector3d normal = own_plane ? cell->own_normal : window_normal;
   const double rho = slope_deg(normal);
   const bool too_steep =
       std::max({rho, slope_deg(window_normal), edge_slope_deg(store, ix, iy, config)}) >

@@ -50,6 +50,7 @@ std::vector<std::uint8_t> drop_overhang_ground(std::span<const Eigen::Vector3d> 
       cell->ground_top.fill(-std::numeric_limits<float>::infinity());
       cell->mean.setZero();
       cell->covariance.setZero();
+      cell->own_normal_fresh = false;
     }
   // The lowest ground of each cell, this scan's or the map's, then of the 3 x 3 cells around it
   // (each worked out when a return first asks for it: most cells of the window hold none).
