@@ -30,11 +30,18 @@ struct PlaneSums {
     S += p * p.transpose();
   }
   /// Adds `o`, whose points are `offset` away from this frame (p_here = p_there + offset).
+  /// Written out per coefficient (the outer products as Eigen expressions made temporaries; this
+  /// is the same arithmetic in the same order, so the same sums): the voxel window adds nine.
   void add_shifted(const PlaneSums& o, const Eigen::Vector3d& offset) {
     n += o.n;
-    s += o.s + o.n * offset;
-    S += o.S + o.s * offset.transpose() + offset * o.s.transpose() +
-         o.n * offset * offset.transpose();
+    double v[3];  // o.n * offset
+    for (int i = 0; i < 3; ++i) {
+      v[i] = o.n * offset[i];
+      s[i] += o.s[i] + v[i];
+    }
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i)
+        S(i, j) += o.S(i, j) + o.s[i] * offset[j] + offset[i] * o.s[j] + v[i] * offset[j];
   }
   Eigen::Vector3d mean() const { return s / n; }
   Eigen::Matrix3d covariance() const {
@@ -88,7 +95,12 @@ struct FusedCell {
     else if (dz > top[1])
       top[1] = dz;
   }
+  /// The normal of the cell's own returns once derive_cell needed it, until they change (a cell
+  /// is derived again whenever a neighbour in its window changes, its own plane mostly not).
+  Eigen::Vector3d own_normal = Eigen::Vector3d::UnitZ();
+  bool own_normal_fresh = false;
   void refresh_moments() {
+    own_normal_fresh = false;
     mean = ground.mean();
     covariance = ground.covariance();
   }
@@ -116,6 +128,8 @@ class CellStore {
     return (*tile)[slot(ix, iy)];
   }
   bool empty() const { return empty_; }
+  /// Cell columns ix and jx fall in the same tile.
+  static bool same_tile(int ix, int jx) { return floor_div(ix) == floor_div(jx); }
   /// Smallest and largest cell index written.
   Eigen::Vector2i lo() const { return lo_; }
   Eigen::Vector2i hi() const { return hi_; }
@@ -132,6 +146,38 @@ class CellStore {
   std::unordered_map<std::int64_t, std::unique_ptr<Tile>> tiles_;
   Eigen::Vector2i lo_ = Eigen::Vector2i::Zero(), hi_ = Eigen::Vector2i::Zero();
   bool empty_ = true;
+};
+
+/// The cells of a rectangle of the store (w x h from index lo), each looked up once: derive_cell
+/// reads about forty cells around each cell it derives, a hash lookup each from the store. Cells
+/// outside the rectangle are found in the store. Valid until the store makes a new tile.
+class CellBlock {
+ public:
+  CellBlock(CellStore& store, const Eigen::Vector2i& lo, int w, int h)
+      : store_(store), lo_(lo), w_(w), h_(h), cells_(std::size_t(w) * h, nullptr) {
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const std::size_t k = std::size_t(y) * w + x;
+        // One lookup per tile row segment: the next cells of the same tile follow in memory.
+        if (x > 0 && cells_[k - 1] && CellStore::same_tile(lo.x() + x - 1, lo.x() + x))
+          cells_[k] = cells_[k - 1] + 1;
+        else if (x > 0 && !cells_[k - 1] && CellStore::same_tile(lo.x() + x - 1, lo.x() + x))
+          cells_[k] = nullptr;
+        else
+          cells_[k] = store.find(lo.x() + x, lo.y() + y);
+      }
+  }
+  FusedCell* find(int ix, int iy) const {
+    const int x = ix - lo_.x(), y = iy - lo_.y();
+    if (x >= 0 && y >= 0 && x < w_ && y < h_) return cells_[std::size_t(y) * w_ + x];
+    return store_.find(ix, iy);
+  }
+
+ private:
+  CellStore& store_;
+  Eigen::Vector2i lo_;
+  int w_, h_;
+  std::vector<FusedCell*> cells_;
 };
 
 /// What one scan saw in one cell.
@@ -154,7 +200,8 @@ void mark_seen_through(std::span<ScanCell> local, const Eigen::Vector2i& lo, int
                        std::span<const Eigen::Vector3d> points_m, const Eigen::Vector3d& sensor_m,
                        int stride, const FusionConfig& config);
 
-/// The ground flags of a scan's returns (map frame) less the overhangs the ground segmentation
+/// The ground flags of a scan's returns (map frame; the cell of each finite one in `cells`, all
+/// inside the w x h cells from index lo) less the overhangs the ground segmentation
 /// took for ground (a branch over a track seen from afar, where the ground under it is hidden):
 /// returns more than the robot's clearance above the lowest ground of their 3 x 3 cells, this
 /// scan's or the store's (plus 2 sqrt 2 cells x tan(max_slope): ground the robot can climb rises
@@ -163,10 +210,12 @@ void mark_seen_through(std::span<ScanCell> local, const Eigen::Vector2i& lo, int
 /// its ground statistics first.
 std::vector<std::uint8_t> drop_overhang_ground(std::span<const Eigen::Vector3d> points_m,
                                                std::span<const std::uint8_t> is_ground,
+                                               std::span<const Eigen::Vector2i> cells,
+                                               const Eigen::Vector2i& lo, int w, int h,
                                                CellStore& store, const FusionConfig& config);
 
 /// Recomputes the layers of cell (ix, iy) from its statistics and its voxel window's (`half`
 /// cells each side; a no-op for a cell never written).
-void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig& config);
+void derive_cell(const CellBlock& cells, int ix, int iy, int half, const FusionConfig& config);
 
 }  // namespace fieldlidar::terrain::detail

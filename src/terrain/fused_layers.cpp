@@ -35,20 +35,20 @@ Eigen::Vector3d offset(double cell_m, int dx, int dy, float z_ref_to, float z_re
 
 /// The steepest rise between the cell's mean ground return and a neighbour's (deg): a wall, a
 /// pit's rim or a ditch's edge sharper than the voxel plane shows.
-double edge_slope_deg(const CellStore& store, int ix, int iy, const FusionConfig& config) {
+double edge_slope_deg(const CellBlock& store, int ix, int iy, const FusionConfig& config) {
   const FusedCell& cell = *store.find(ix, iy);
   const double cm = config.layers.cell_m;
   const Eigen::Vector3d& mean = cell.mean;
-  double steepest = 0;
+  double steepest = 0;  // rise over run; one atan of the largest (atan is monotonic)
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       const FusedCell* q = store.find(ix + dx, iy + dy);
       if ((dx == 0 && dy == 0) || !q || q->ground.n < config.min_ground_points) continue;
       const Eigen::Vector3d d = q->mean + offset(cm, dx, dy, cell.z_ref, q->z_ref) - mean;
       const double run = std::max(0.25 * cm, d.head<2>().norm());
-      steepest = std::max(steepest, std::atan(std::abs(d.z()) / run) / kDeg);
+      steepest = std::max(steepest, std::abs(d.z()) / run);
     }
-  return steepest;
+  return std::atan(steepest) / kDeg;
 }
 
 bool seen(const FusedCell* q, const FusionConfig& config) {
@@ -62,7 +62,7 @@ bool seen_ground(const FusedCell* q, const FusionConfig& config) {
 /// cells either side of it on a line, both inside the window, are seen ground within max_step of
 /// each other, and none of its 8 neighbours holds obstacle evidence (a shadow behind a rock stays
 /// unseen). Inside the window only, so the cells it reads are the ones that re-derive this cell.
-bool bridged(const CellStore& store, int ix, int iy, int dx, int dy, int half,
+bool bridged(const CellBlock& store, int ix, int iy, int dx, int dy, int half,
              const FusionConfig& config) {
   for (int ny = -1; ny <= 1; ++ny)
     for (int nx = -1; nx <= 1; ++nx) {
@@ -86,7 +86,7 @@ bool bridged(const CellStore& store, int ix, int iy, int dx, int dy, int half,
 
 /// The voxel window (the robot's footprint) is seen: every cell holds ground returns of its own
 /// or obstacle evidence, but for at most max_bridged_cells bridged by the ground model.
-bool window_seen(const CellStore& store, int ix, int iy, int half, const FusionConfig& config) {
+bool window_seen(const CellBlock& store, int ix, int iy, int half, const FusionConfig& config) {
   int bridges = 0;
   for (int dy = -half; dy <= half; ++dy)
     for (int dx = -half; dx <= half; ++dx) {
@@ -111,7 +111,7 @@ double bump_height(const std::array<double, 9>& ring, double top) {
 
 }  // namespace
 
-void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig& config) {
+void derive_cell(const CellBlock& store, int ix, int iy, int half, const FusionConfig& config) {
   FusedCell* cell = store.find(ix, iy);
   if (!cell) return;
   const TraversabilityConfig& c = config.layers;
@@ -150,7 +150,11 @@ void derive_cell(CellStore& store, int ix, int iy, int half, const FusionConfig&
   const Eigen::Vector3d centroid = window.mean();
   const Eigen::Vector3d window_normal = plane_normal(window);
   const bool own_plane = cell->ground.n >= config.min_own_plane_points;
-  const Eigen::Vector3d normal = own_plane ? plane_normal(cell->ground) : window_normal;
+  if (own_plane && !cell->own_normal_fresh) {
+    cell->own_normal = plane_normal(cell->ground);
+    cell->own_normal_fresh = true;
+  }
+  const Eigen::Vector3d normal = own_plane ? cell->own_normal : window_normal;
   const double rho = slope_deg(normal);
   const bool too_steep =
       std::max({rho, slope_deg(window_normal), edge_slope_deg(store, ix, iy, config)}) >

@@ -1,23 +1,18 @@
 /// Overhangs the ground segmentation took for ground: returns standing more than the robot's
 /// clearance (plus the rise of climbable ground over 3 x 3 cells) above the lowest ground near
 /// them, this scan's or the fused map's, are no ground.
+#include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 #include "fused_cell.hpp"
 
 namespace fieldlidar::terrain::detail {
-namespace {
-
-std::int64_t cell_key(int ix, int iy) {
-  return (std::int64_t(ix) << 32) ^ std::int64_t(std::uint32_t(iy));
-}
-
-}  // namespace
 
 std::vector<std::uint8_t> drop_overhang_ground(std::span<const Eigen::Vector3d> pts,
                                                std::span<const std::uint8_t> is_ground,
+                                               std::span<const Eigen::Vector2i> cells_of,
+                                               const Eigen::Vector2i& lo, int w, int h,
                                                CellStore& store, const FusionConfig& config) {
   std::vector<std::uint8_t> out(is_ground.begin(), is_ground.end());
   const double cm = config.layers.cell_m;
@@ -26,41 +21,61 @@ std::vector<std::uint8_t> drop_overhang_ground(std::span<const Eigen::Vector3d> 
   const double rise =
       config.layers.robot.clearance_m +
       2.0 * std::sqrt(2.0) * cm * std::tan(config.layers.robot.max_slope_deg * kDeg);
-  const auto cell_of = [cm](double v) { return int(std::floor(v / cm)); };
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // Cells of the scan's window padded by one (the neighbours of its edge cells).
+  const Eigen::Vector2i origin = lo - Eigen::Vector2i(1, 1);
+  const int pw = w + 2, ph = h + 2;
+  const auto index = [&](std::size_t i) {
+    return std::size_t(cells_of[i].y() - origin.y()) * pw +
+           std::size_t(cells_of[i].x() - origin.x());
+  };
   // This scan's lowest ground return per cell.
-  std::unordered_map<std::int64_t, float> lowest;
+  std::vector<float> lowest(std::size_t(pw) * ph, std::numeric_limits<float>::infinity());
   for (std::size_t i = 0; i < pts.size(); ++i) {
     if (!out[i] || !pts[i].allFinite()) continue;
-    auto [it, fresh] =
-        lowest.try_emplace(cell_key(cell_of(pts[i].x()), cell_of(pts[i].y())), float(pts[i].z()));
-    if (!fresh) it->second = std::min(it->second, float(pts[i].z()));
+    float& z = lowest[index(i)];
+    z = std::min(z, float(pts[i].z()));
   }
   // A cell whose fused ground stands more than the clearance above this scan's ground in it held
   // an overhang seen before any ground near it: its ground statistics start again.
-  for (const auto& [key, z] : lowest) {
-    FusedCell* cell = store.find(int(key >> 32), int(std::int32_t(std::uint32_t(key))));
-    if (!cell || cell->ground.n < config.min_ground_points) continue;
-    if (cell->mean.z() + cell->z_ref <= z + rise) continue;
-    cell->ground = PlaneSums{};
-    cell->z_ref = std::numeric_limits<float>::quiet_NaN();
-    cell->ground_top.fill(-std::numeric_limits<float>::infinity());
-    cell->mean.setZero();
-    cell->covariance.setZero();
-  }
-  // The lowest ground of the 3 x 3 cells around each ground return, from this scan and the map.
+  const CellBlock cells(store, origin, pw, ph);
+  for (int y = 1; y <= h; ++y)
+    for (int x = 1; x <= w; ++x) {
+      const float z = lowest[std::size_t(y) * pw + x];
+      FusedCell* cell = std::isfinite(z) ? cells.find(origin.x() + x, origin.y() + y) : nullptr;
+      if (!cell || cell->ground.n < config.min_ground_points) continue;
+      if (cell->mean.z() + cell->z_ref <= z + rise) continue;
+      cell->ground = PlaneSums{};
+      cell->z_ref = std::numeric_limits<float>::quiet_NaN();
+      cell->ground_top.fill(-std::numeric_limits<float>::infinity());
+      cell->mean.setZero();
+      cell->covariance.setZero();
+      cell->own_normal_fresh = false;
+    }
+  // The lowest ground of each cell, this scan's or the map's, then of the 3 x 3 cells around it
+  // (each worked out when a return first asks for it: most cells of the window hold none).
+  constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> low(std::size_t(pw) * ph, kUnset), low3(std::size_t(pw) * ph, kUnset);
+  const auto low_of = [&](int x, int y) {
+    double& v = low[std::size_t(y) * pw + x];
+    if (std::isnan(v)) {
+      v = double(lowest[std::size_t(y) * pw + x]);
+      const FusedCell* q = cells.find(origin.x() + x, origin.y() + y);
+      if (q && q->ground.n >= config.min_ground_points)
+        v = std::min(v, q->mean.z() + double(q->z_ref));
+    }
+    return v;
+  };
   for (std::size_t i = 0; i < pts.size(); ++i) {
     if (!out[i] || !pts[i].allFinite()) continue;
-    const int ix = cell_of(pts[i].x()), iy = cell_of(pts[i].y());
-    double low = std::numeric_limits<double>::infinity();
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        if (auto it = lowest.find(cell_key(ix + dx, iy + dy)); it != lowest.end())
-          low = std::min(low, double(it->second));
-        const FusedCell* q = store.find(ix + dx, iy + dy);
-        if (q && q->ground.n >= config.min_ground_points)
-          low = std::min(low, q->mean.z() + double(q->z_ref));
-      }
-    if (pts[i].z() > low + rise) out[i] = 0;
+    const int x = cells_of[i].x() - origin.x(), y = cells_of[i].y() - origin.y();
+    double& m = low3[std::size_t(y) * pw + x];
+    if (std::isnan(m)) {
+      m = kInf;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) m = std::min(m, low_of(x + dx, y + dy));
+    }
+    if (pts[i].z() > m + rise) out[i] = 0;
   }
   return out;
 }

@@ -2,6 +2,8 @@
 /// returns; a cell holding obstacle evidence that a ray crosses inside the obstacle's height band
 /// and leaves is free there in this scan.
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include "fused_cell.hpp"
 
@@ -15,6 +17,11 @@ void mark_seen_through(std::span<ScanCell> local, const Eigen::Vector2i& lo, int
   const double clearance = config.layers.robot.clearance_m;
   const double margin = 0.05;  // m below the recorded top: grazing the top is no see-through
   const int sx = int(std::floor(sensor_m.x() / cm)), sy = int(std::floor(sensor_m.y() / cm));
+  // The cells a ray can see through (obstacle evidence), flagged densely: most cells a ray
+  // crosses hold none, and the flags are what it reads there.
+  std::vector<std::uint8_t> obstacle(local.size(), 0);
+  for (std::size_t k = 0; k < local.size(); ++k)
+    obstacle[k] = local[k].cell && local[k].cell->log_odds > 0.0f;
   for (std::size_t i = 0; i < pts.size(); i += std::size_t(stride)) {
     const Eigen::Vector3d& p = pts[i];
     if (!p.allFinite()) continue;
@@ -33,10 +40,10 @@ void mark_seen_through(std::span<ScanCell> local, const Eigen::Vector2i& lo, int
     for (int guard = 0; guard < 4 * (w + h) && (x != ex || y != ey); ++guard) {
       const double t_out = std::min({t_x, t_y, 1.0});
       const int lx = x - lo.x(), ly = y - lo.y();
-      if (lx >= 0 && ly >= 0 && lx < w && ly < h) {
+      if (lx >= 0 && ly >= 0 && lx < w && ly < h && obstacle[std::size_t(ly) * w + lx]) {
         ScanCell& s = local[std::size_t(ly) * w + lx];
         const FusedCell* cell = s.cell;
-        if (cell && cell->log_odds > 0.0f && !s.seen_through) {
+        if (!s.seen_through) {
           const double ground = cell->layers[kElev];
           const double z = sensor_m.z() + 0.5 * (t_in + t_out) * d.z();
           const double above = z - ground;

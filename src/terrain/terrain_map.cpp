@@ -98,9 +98,12 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
   FusionUpdate u;
   // The scan's window of cells: its finite returns' extent.
   Eigen::Vector2i lo(0, 0), hi(-1, -1);
-  for (const auto& p : pts) {
+  std::vector<Eigen::Vector2i> cell_of(pts.size());  // each return's cell (finite returns)
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Eigen::Vector3d& p = pts[i];
     if (!p.allFinite()) continue;
     const Eigen::Vector2i k(cell_index(p.x(), cm), cell_index(p.y(), cm));
+    cell_of[i] = k;
     if (u.points++ == 0) lo = hi = k;
     lo = lo.cwiseMin(k);
     hi = hi.cwiseMax(k);
@@ -118,20 +121,19 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
     throw Error("terrain fusion: one scan spans " + std::to_string(w) + " x " + std::to_string(h) +
                 " cells; far-off points? (max_range_m bounds add_scan)");
   std::vector<ScanCell> local(std::size_t(w) * h);
-  auto local_of = [&](const Eigen::Vector3d& p) -> ScanCell& {
-    return local[std::size_t(cell_index(p.y(), cm) - lo.y()) * w +
-                 (cell_index(p.x(), cm) - lo.x())];
+  auto local_of = [&](std::size_t i) -> ScanCell& {
+    return local[std::size_t(cell_of[i].y() - lo.y()) * w + (cell_of[i].x() - lo.x())];
   };
 
   // Ground returns into their cells' statistics (relative to the cell centre and z_ref), less
   // the overhangs the ground segmentation took for ground.
   const std::vector<std::uint8_t> ground_flags =
-      detail::drop_overhang_ground(pts, is_ground, impl_->store, f);
+      detail::drop_overhang_ground(pts, is_ground, cell_of, lo, w, h, impl_->store, f);
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Eigen::Vector3d& p = pts[i];
     if (!p.allFinite()) continue;
-    ScanCell& s = local_of(p);
-    const int ix = cell_index(p.x(), cm), iy = cell_index(p.y(), cm);
+    ScanCell& s = local_of(i);
+    const int ix = cell_of[i].x(), iy = cell_of[i].y();
     if (!s.cell) s.cell = &impl_->store.get(ix, iy);
     ++s.returns;
     if (!ground_flags[i]) continue;
@@ -149,19 +151,19 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Eigen::Vector3d& p = pts[i];
     if (ground_flags[i] || !p.allFinite()) continue;
-    ScanCell& s = local_of(p);
+    ScanCell& s = local_of(i);
     const auto& known = s.cell->layers;
     double base = s.low_ground;
     if (f.obstacle_height_from_plane && std::isfinite(known[detail::kElev]) &&
         known[detail::kNz] > 0.5f) {  // the cell's ground plane under the return
-      const double dx = p.x() - (cell_index(p.x(), cm) + 0.5) * cm;
-      const double dy = p.y() - (cell_index(p.y(), cm) + 0.5) * cm;
+      const double dx = p.x() - (cell_of[i].x() + 0.5) * cm;
+      const double dy = p.y() - (cell_of[i].y() + 0.5) * cm;
       base = known[detail::kElev] -
              (known[detail::kNx] * dx + known[detail::kNy] * dy) / known[detail::kNz];
     }
     if (!std::isfinite(base)) base = known[detail::kElev];
     if (!std::isfinite(base)) {  // the lowest ground this scan saw next to the cell
-      const int x = cell_index(p.x(), cm) - lo.x(), y = cell_index(p.y(), cm) - lo.y();
+      const int x = cell_of[i].x() - lo.x(), y = cell_of[i].y() - lo.y();
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx)
           if (x + dx >= 0 && y + dy >= 0 && x + dx < w && y + dy < h)
@@ -212,14 +214,18 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
         for (int dx = -pad; dx <= pad; ++dx)
           dirty[std::size_t(y + pad + dy) * pw + (x + pad + dx)] = 1;
     }
+  // Every cell derive_cell reads: the dirty cells, the rims below, and their windows and halos.
+  const int reach = pad + 1 + std::max(half, 1);
+  const detail::CellBlock cells(impl_->store, lo - Eigen::Vector2i(reach, reach), w + 2 * reach,
+                                h + 2 * reach);
   std::vector<Eigen::Vector2i> rims;  // 4-neighbours of cells that became or stopped being bumps
   for (int y = 0; y < ph; ++y)
     for (int x = 0; x < pw; ++x)
       if (dirty[std::size_t(y) * pw + x]) {
         const int ix = lo.x() + x - pad, iy = lo.y() + y - pad;
-        const FusedCell* cell = impl_->store.find(ix, iy);
+        const FusedCell* cell = cells.find(ix, iy);
         const bool bump = cell && cell->bump;
-        detail::derive_cell(impl_->store, ix, iy, half, f);
+        detail::derive_cell(cells, ix, iy, half, f);
         ++u.cells_updated;
         if (cell && cell->bump != bump)
           for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}})
@@ -227,7 +233,7 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
       }
   // A bump's rim blocks too (derive_cell's halo), read from the neighbour's flag: the rims of
   // this scan's new or gone bumps once more, now that every flag is current.
-  for (const auto& c : rims) detail::derive_cell(impl_->store, c.x(), c.y(), half, f);
+  for (const auto& c : rims) detail::derive_cell(cells, c.x(), c.y(), half, f);
   return u;
 }
 

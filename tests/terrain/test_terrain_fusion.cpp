@@ -167,10 +167,11 @@ SweepRun every_sweep(std::uint64_t seed) {
 
 // Tuned on seeds 21 and 22 (the halo, the full-window rule, the slope margin, the bump margin,
 // the gap bridging's cap were chosen on them); seeds 23, 24 and 25 held out. Measured (scans every
-// 0.5 s): impassable recall 0.972/0.990 tuned, 0.972/0.974/0.976 held out (0.967/0.987,
-// 0.972/0.966/0.971 before low rocks kept as ground were found as bumps); impassable precision
-// 0.67-0.72; passable precision 0.992-0.997; coverage 0.79-0.84. Slope RMSE is on the cells both
-// the truth and the map call passable (the slopes a planner uses).
+// 0.5 s): impassable recall 0.986/0.996 tuned, 0.982/0.988/0.991 held out (0.972/0.990 and
+// 0.972/0.974/0.976 before a bump's rim blocked; 0.967/0.987, 0.972/0.966/0.971 before low rocks
+// kept as ground were found as bumps); impassable precision 0.67-0.69; passable precision
+// 0.995-0.999; coverage 0.80-0.84. Slope RMSE is on the cells both the truth and the map call
+// passable (the slopes a planner uses): 0.86-1.08 deg.
 TEST(TerrainFusion, WholeDriveAgainstTruth) {
   for (std::uint64_t seed : {21u, 22u, 23u, 24u, 25u}) {
     const DriveResult r = drive({}, seed, false, 0.5);
@@ -186,13 +187,19 @@ TEST(TerrainFusion, WholeDriveAgainstTruth) {
 }
 
 // Every sweep (10 Hz) of whole drives, de-skewed, placed by the true poses and by the lidar
-// odometry; seeds 23-25 held out. Measured, impassable recall with true / odometry poses: 0.970 /
-// 0.973, 0.973 / 0.959, 0.972 / 0.979 (the odometry's largest position error 0.50, 0.67, 0.51 m);
-// passable precision 0.988-0.994; slope RMSE on the cells both call passable 0.84-1.14 deg (true
-// poses), 1.29-1.52 deg (odometry). The same drives with the sensor noise drawn at other sweep
-// times (0.1 s steps summed): 0.977 / 0.973, 0.975 / 0.965, 0.972 / 0.982: about +-0.005 is noise.
-// Before evidence was counted per time (every sweep a whole scan), raw sweeps of seed 23's first
-// 30 s scored 0.960 / 0.953.
+// odometry; seeds 23-25 held out. Measured, impassable recall with true / odometry poses: 0.979 /
+// 0.985, 0.989 / 0.980, 0.989 / 0.992 (the odometry's largest position error 0.48, 0.65, 0.49 m);
+// passable precision 0.994-0.997; slope RMSE on the cells both call passable 0.83-1.07 deg (true
+// poses), 1.17-1.46 deg (odometry). Tuned seeds 21/22: 0.989 / 0.987, 0.992 / 0.993; seeds 26/27,
+// never used before: 0.998 / 0.998, 0.995 / 0.992. Seed 23 with true poses was 0.970 before a
+// bump's rim blocked (a low rock kept as ground marks its 4 neighbours); of its 27 missed cells
+// now, 23 are one rock (0.69 m radius, 0.62 m high) standing in a 0.9 m pit with its top level
+// with the pit's rim, seen only from 12-14 m: the map sees one flat surface there (the gap
+// between rock and wall is hidden at that grazing angle). Seed 24's 26 misses with odometry
+// poses: 20 cells beside a ditch's or pit's edge (the truth takes the steepest point of the cell
+// and the height range of its neighbours), 6 a rock's or bush's footprint touches by 2-21 cm, of
+// which 2 where the odometry is 0.54 m off. The same drives with the sensor noise drawn at other
+// sweep times moved recall by about +-0.005.
 TEST(TerrainFusion, EverySweepDeskewed) {
   for (std::uint64_t seed : {23u, 24u, 25u}) {
     const SweepRun r = every_sweep(seed);
@@ -201,10 +208,10 @@ TEST(TerrainFusion, EverySweepDeskewed) {
     terrain::test::print(("every sweep, seed " + std::to_string(seed) + ", odometry").c_str(),
                          r.odometry);
     std::printf("  odometry's largest position error %.3f m\n", r.odometry_max_error_m);
-    EXPECT_GE(r.true_poses.impassable_recall(), 0.965) << seed;
-    EXPECT_GE(r.odometry.impassable_recall(), 0.955) << seed;
-    EXPECT_GE(r.true_poses.passable_precision(), 0.985) << seed;
-    EXPECT_GE(r.odometry.passable_precision(), 0.985) << seed;
+    EXPECT_GE(r.true_poses.impassable_recall(), 0.97) << seed;
+    EXPECT_GE(r.odometry.impassable_recall(), 0.97) << seed;
+    EXPECT_GE(r.true_poses.passable_precision(), 0.99) << seed;
+    EXPECT_GE(r.odometry.passable_precision(), 0.99) << seed;
     EXPECT_GT(r.true_poses.coverage(), 0.75) << seed;
     EXPECT_LT(r.true_poses.slope_rmse_agreed(), 1.5) << seed;
     EXPECT_LT(r.odometry.slope_rmse_agreed(), 2.0) << seed;
