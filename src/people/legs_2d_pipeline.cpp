@@ -85,20 +85,18 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   std::vector<std::size_t> obs_cand;
   for (std::size_t i = 0; i < cand.size(); ++i) {
     const auto track = leg_update.track_of_detection[i];
-    // A leg on occupied space is no person's leg: the occupancy grid forbids tracks there.
-    const auto [b, e] = cand_range[i];
-    const bool occupied =
-        occupancy_.is_static(std::span(world).subspan(b, e - b)) ||
-        (moving_frame && sensor_occupancy_.is_static(std::span(pts).subspan(b, e - b)));
     double prior = 0;
-    bool born_occupied = false;
     if (track >= 0) {
       double& ev = leg_evidence_[std::uint32_t(track)];
       prior = ev;
       ev = config_.evidence_decay * ev + score[i];
-      born_occupied = leg_born_occupied_.try_emplace(std::uint32_t(track), occupied).first->second;
     }
     if (score[i] > 0 || prior > 0) {
+      // A leg on occupied space is no person's leg: the occupancy grid forbids tracks there.
+      const auto [b, e] = cand_range[i];
+      const bool occupied =
+          occupancy_.is_static(std::span(world).subspan(b, e - b)) ||
+          (moving_frame && sensor_occupancy_.is_static(std::span(pts).subspan(b, e - b)));
       // Reported legs need more than the tracker's input: leg-shaped clutter passes the
       // classifier only just, and its leg tracks gather little evidence.
       // On occupied space (returns there scan after scan, from before or since the leg was
@@ -109,14 +107,13 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
                             prior < config_.occupied_leg_evidence_min;
       if (!doubtful && (!dc.classifier || score[i] > config_.leg_report_margin ||
                         prior > config_.leg_report_evidence))
-        out.legs.push_back({cand[i], score[i], track, prior, occupied, born_occupied});
+        out.legs.push_back({cand[i], score[i], track, prior, occupied});
       if (occupied) continue;
       obs.push_back({cand_world[i], score[i] > 0 ? score[i] : config_.carried_leg_score});
       obs_cand.push_back(i);
     }
   }
   prune(leg_evidence_, legs_);
-  prune(leg_born_occupied_, legs_);
   // Paired legs of this scan (seed 000, step 3 output), for the record.
   {
     LegDetection det;

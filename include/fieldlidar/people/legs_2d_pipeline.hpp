@@ -145,8 +145,6 @@ struct PipelineLeg {
   std::int64_t track = -1;  ///< leg track id
   double evidence = 0;      ///< its leg track's evidence before this scan
   bool occupied = false;    ///< on the occupancy grid of non-person returns (no person there)
-  /// Its leg track began on occupied space (the place held returns before the leg was seen).
-  bool born_occupied = false;
 };
 
 struct PipelinePerson {
@@ -187,7 +185,6 @@ class LegPipeline2D {
   PersonTracker legs_, persons_;
   JointPersonTracker persons_joint_;
   std::unordered_map<std::uint32_t, double> leg_evidence_;
-  std::unordered_map<std::uint32_t, bool> leg_born_occupied_;
 };
 
 }  // namespace fieldlidar::people
