@@ -83,6 +83,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   const auto leg_update = legs_.update(stamp_s, cand_world);
   std::vector<LegObservation> obs;
   std::vector<std::size_t> obs_cand;
+  std::vector<Eigen::Vector2d> per_scan_legs;  // the legs of this scan alone (no occupancy)
   for (std::size_t i = 0; i < cand.size(); ++i) {
     const auto track = leg_update.track_of_detection[i];
     double prior = 0;
@@ -105,20 +106,23 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       const bool doubtful = dc.classifier && occupied &&
                             score[i] < config_.occupied_leg_score_min &&
                             prior < config_.occupied_leg_evidence_min;
-      if (!doubtful && (!dc.classifier || score[i] > config_.leg_report_margin ||
-                        prior > config_.leg_report_evidence))
-        out.legs.push_back({cand[i], score[i], track, prior, occupied});
+      if (!dc.classifier || score[i] > config_.leg_report_margin ||
+          prior > config_.leg_report_evidence) {
+        per_scan_legs.push_back(cand[i]);
+        if (!doubtful) out.legs.push_back({cand[i], score[i], track, prior, occupied});
+      }
       if (occupied) continue;
       obs.push_back({cand_world[i], score[i] > 0 ? score[i] : config_.carried_leg_score});
       obs_cand.push_back(i);
     }
   }
   prune(leg_evidence_, legs_);
-  // Paired legs of this scan (seed 000, step 3 output), for the record.
+  // Paired legs of this scan (seed 000, step 3 output: per scan, without the occupancy grid's
+  // context), for the record.
   {
     LegDetection det;
-    for (std::size_t i = 0; i < out.legs.size(); ++i)
-      det.legs.push_back({out.legs[i].position_m, 1, std::int32_t(i)});
+    for (std::size_t i = 0; i < per_scan_legs.size(); ++i)
+      det.legs.push_back({per_scan_legs[i], 1, std::int32_t(i)});
     pair_legs(det, dc);
     out.person_detections = det.people.size();
   }

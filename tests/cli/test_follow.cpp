@@ -135,7 +135,10 @@ TEST(CliLegs, DetectionsCsvAndTrainedConfigRoundTrip) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto at = r.output.find("recall ");
   ASSERT_NE(at, std::string::npos) << r.output;
-  EXPECT_GT(std::stod(r.output.substr(at + 7)), 0.7) << r.output;  // measured 0.762
+  // Measured 0.577 (0.762 before legs on occupied space needed a score 3 over the threshold
+  // or track evidence 7: a classifier trained on one bag scores legs lower than the shipped
+  // one, and those margins are in score units).
+  EXPECT_GT(std::stod(r.output.substr(at + 7)), 0.55) << r.output;
   std::istringstream in(slurp(csv));
   std::string line;
   std::getline(in, line);

@@ -156,7 +156,8 @@ struct PipelinePerson {
 struct LegPipeline2DOutput {
   std::vector<PipelineLeg> legs;
   std::vector<PipelinePerson> people;  ///< reported persons (JointPersonTracker)
-  /// Paired leg detections of this scan before the person tracker (seed 000, step 3 output).
+  /// Paired leg detections of this scan before the person tracker (seed 000, step 3 output:
+  /// the legs of this scan alone, before the occupied-space rule).
   std::size_t person_detections = 0;
   Eigen::Isometry2d pose = Eigen::Isometry2d::Identity();  ///< sensor -> fixed frame
   bool ego_motion_ok = true;  ///< false when scan matching failed on this scan
