@@ -159,8 +159,7 @@ void pipeline_2d(benchmark::State& state, bool matching_only,
     if (matching_only) {
       benchmark::DoNotOptimize(odometry.add(s));
       iterations += std::size_t(odometry.last_match().iterations);
-    }
-    else
+    } else
       benchmark::DoNotOptimize(pipeline->process(0.1 * double(k % scans.size()), s));
     ++k;
   }

@@ -117,7 +117,9 @@ class NearestGrid {
   int cy(const Eigen::Vector2d& p) const {
     return std::min(int((p.y() - origin_.y()) / cell_m_), ny_ - 1);
   }
-  std::size_t index(int i, int j) const { return std::size_t(j) * std::size_t(nx_) + std::size_t(i); }
+  std::size_t index(int i, int j) const {
+    return std::size_t(j) * std::size_t(nx_) + std::size_t(i);
+  }
   std::vector<Eigen::Vector2d> sorted_;  ///< the points in cell order
   Eigen::Vector2d origin_;
   double cell_m_ = 1;

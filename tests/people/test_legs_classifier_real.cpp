@@ -128,8 +128,7 @@ HeldOut held_out(const LegPipeline2DConfig& base, const BoostOptions& o = {}) {
       "%.3f (paired-leg detections/scan before tracking %.4f); walker reported on %.3f of %zu "
       "two-leg scans\n",
       h.recall(), h.precision(), h.legs_whole_scan.precision(), h.false_persons_per_scan(),
-      h.false_legs_per_scan(),
-      h.person_detections_per_scan(), h.person_rate(), h.two_leg_scans);
+      h.false_legs_per_scan(), h.person_detections_per_scan(), h.person_rate(), h.two_leg_scans);
   return h;
 }
 
