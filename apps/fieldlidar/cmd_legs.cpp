@@ -173,9 +173,9 @@ void add_legs_command(CLI::App& app) {
   cmd->add_option("--occupied-leg", o->occupied_leg,
                   "2D: SCORE EVIDENCE: a leg on occupied space (returns there scan after scan) is "
                   "reported only if its classifier score passes the threshold by SCORE or its "
-                  "track's evidence reaches EVIDENCE (default 3 7, for the shipped classifier's "
-                  "score scale; a classifier trained on less data scores lower; -1e9 -1e9: no "
-                  "such rule)")
+                  "track's evidence reaches EVIDENCE (default: the margins the classifier file "
+                  "carries, 3 7 in the shipped one, none in one from legs-train, whose scores "
+                  "are on another scale; -1e9 -1e9: no such rule)")
       ->expected(2);
   cmd->add_flag("--force", o->force, "Overwrite the output file");
   cmd->callback([o] { run_legs(*o); });

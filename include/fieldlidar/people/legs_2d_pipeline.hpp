@@ -24,6 +24,7 @@
 /// Positions: sensor frame (x forward, y left) unless named `_world`; metres, seconds.
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <unordered_map>
@@ -95,7 +96,10 @@ struct LegPipeline2DConfig {
   /// With a classifier, a leg on the occupancy grid of non-person returns (PipelineLeg::
   /// occupied) is reported only if its score passes the classifier's threshold by
   /// `occupied_leg_score_min` or its track's evidence before this scan reaches
-  /// `occupied_leg_evidence_min` (-inf / -inf: no such rule). On negative_2.bag 85 % of the
+  /// `occupied_leg_evidence_min` (-inf / -inf: no such rule; NaN, the default: the margins the
+  /// classifier file carries, LegClassifier::occupied_score_min, since the score margin is in
+  /// that classifier's units; the shipped classifier carries 3 / 7, one from legs-train none).
+  /// On negative_2.bag 85 % of the
   /// reported legs lie on occupied space (chair and table legs, wall ends), against 14 % of the
   /// annotated legs of positive_1..4 (people standing, or passing where someone stood); there
   /// the legs of people score higher (held-out median 3.0 over the threshold against 0.7) and
@@ -108,8 +112,8 @@ struct LegPipeline2DConfig {
   /// / 0.916, 0.917. Chosen among score / evidence pairs 2-4 / 5-8 on these bags; 2.5 / 8 or
   /// 3 / 5 leave /rear_scan above 1.0, 3 / 8 or 3.5 / 7 take positive_3 under 0.93.
   /// (The leg_report_* figures above were measured without this rule.)
-  double occupied_leg_score_min = 3.0;
-  double occupied_leg_evidence_min = 7.0;
+  double occupied_leg_score_min = std::numeric_limits<double>::quiet_NaN();
+  double occupied_leg_evidence_min = std::numeric_limits<double>::quiet_NaN();
   /// Leg tracks: legs swing at up to ~4 m/s, scans come at 7-40 Hz.
   TrackerConfig leg_tracker = [] {
     TrackerConfig t;
