@@ -149,20 +149,22 @@ void pipeline_2d(benchmark::State& state, bool matching_only,
       people::leg_classifier_from_yaml(text.str(), model.string()));
   std::optional<people::LegPipeline2D> pipeline;
   people::ScanOdometry2D odometry;
-  std::size_t k = 0;
+  std::size_t k = 0, iterations = 0;
   for (auto _ : state) {
     if (k % scans.size() == 0) {  // restart at the end of the bag: stamps must not decrease
       pipeline.emplace(cfg);
       odometry = people::ScanOdometry2D();
     }
     const auto& s = scans[k % scans.size()];
-    if (matching_only)
+    if (matching_only) {
       benchmark::DoNotOptimize(odometry.add(s));
-    else
+      iterations += std::size_t(odometry.last_match().iterations);
+    } else
       benchmark::DoNotOptimize(pipeline->process(0.1 * double(k % scans.size()), s));
     ++k;
   }
   state.counters["points/scan"] = double(scans.front().size());
+  if (matching_only) state.counters["icp_iterations"] = double(iterations) / double(k);
 }
 void BM_LegPipeline2D_RealScan(benchmark::State& s) {
   pipeline_2d(s, false);
@@ -173,7 +175,19 @@ void BM_ScanMatching2D_RealScan(benchmark::State& s) {
 void BM_LegPipeline2D_TrackingBag(benchmark::State& s) {
   pipeline_2d(s, false, "legs_2d_tracking/general_tracking_moving_1.bag", "/scan");
 }
+void BM_LegPipeline2D_LeftScan(benchmark::State& s) {
+  pipeline_2d(s, false, "legs_2d/negative_2.bag", "/left_scan");
+}
+void BM_LegPipeline2D_RearScan(benchmark::State& s) {
+  pipeline_2d(s, false, "legs_2d/negative_2.bag", "/rear_scan");
+}
+void BM_LegPipeline2D_PositiveBag(benchmark::State& s) {
+  pipeline_2d(s, false, "legs_2d/positive_4_extracted.bag", "/training_scan");
+}
 BENCHMARK(BM_LegPipeline2D_RealScan)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LegPipeline2D_LeftScan)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LegPipeline2D_RearScan)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LegPipeline2D_PositiveBag)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_LegPipeline2D_TrackingBag)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ScanMatching2D_RealScan)->Unit(benchmark::kMicrosecond);
 

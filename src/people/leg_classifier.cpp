@@ -280,8 +280,11 @@ std::string to_yaml(const LegClassifier& c) {
     << "# score = sum over trees of (feature <= threshold ? below : above), where below and above\n"
     << "# are stumps of the same form; a segment is a leg when score > threshold\n"
     << "leg_classifier:\n"
-    << "  threshold: " << c.threshold << "\n"
-    << "  trees:\n";
+    << "  threshold: " << c.threshold << "\n";
+  if (std::isfinite(c.occupied_score_min) || std::isfinite(c.occupied_evidence_min))
+    s << "  occupied_leg_score_min: " << c.occupied_score_min << "\n"
+      << "  occupied_leg_evidence_min: " << c.occupied_evidence_min << "\n";
+  s << "  trees:\n";
   for (const auto& t : c.trees) {
     s << "    - {feature: " << kNames[std::size_t(t.feature)] << ", threshold: " << t.threshold
       << ",\n       below: ";
@@ -300,6 +303,10 @@ LegClassifier leg_classifier_from_yaml(const std::string& text, const std::strin
     const YAML::Node node = root["leg_classifier"];
     if (!node || !node.IsMap()) throw Error(source + ": no leg_classifier map");
     if (node["threshold"]) c.threshold = finite(node, source, "threshold");
+    if (node["occupied_leg_score_min"])
+      c.occupied_score_min = finite(node, source, "occupied_leg_score_min");
+    if (node["occupied_leg_evidence_min"])
+      c.occupied_evidence_min = finite(node, source, "occupied_leg_evidence_min");
     const YAML::Node trees = node["trees"];
     if (!trees || !trees.IsSequence() || trees.size() == 0)
       throw Error(source + ": leg_classifier.trees must be a non-empty list");

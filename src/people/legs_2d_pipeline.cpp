@@ -1,6 +1,7 @@
 #include "fieldlidar/people/legs_2d_pipeline.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace fieldlidar::people {
 
@@ -29,6 +30,15 @@ LegPipeline2D::LegPipeline2D(LegPipeline2DConfig config)
 LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen::Vector2d> points,
                                            const std::optional<Eigen::Isometry2d>& pose) {
   const auto& dc = config_.detector;
+  // The occupied-space rule's margins: the config's, else the classifier's own (NaN: unset).
+  const auto margin = [&](double configured, double of_classifier) {
+    return std::isnan(configured) ? of_classifier : configured;
+  };
+  const double occupied_score_min =
+      dc.classifier ? margin(config_.occupied_leg_score_min, dc.classifier->occupied_score_min) : 0;
+  const double occupied_evidence_min = dc.classifier ? margin(config_.occupied_leg_evidence_min,
+                                                              dc.classifier->occupied_evidence_min)
+                                                     : 0;
   LegPipeline2DOutput out;
   // 1. Ego-motion.
   if (pose) {
@@ -83,34 +93,45 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   const auto leg_update = legs_.update(stamp_s, cand_world);
   std::vector<LegObservation> obs;
   std::vector<std::size_t> obs_cand;
+  std::vector<Eigen::Vector2d> per_scan_legs;  // the legs of this scan alone (no occupancy)
   for (std::size_t i = 0; i < cand.size(); ++i) {
     const auto track = leg_update.track_of_detection[i];
     double prior = 0;
     if (track >= 0) {
-      double& e = leg_evidence_[std::uint32_t(track)];
-      prior = e;
-      e = config_.evidence_decay * e + score[i];
+      double& ev = leg_evidence_[std::uint32_t(track)];
+      prior = ev;
+      ev = config_.evidence_decay * ev + score[i];
     }
     if (score[i] > 0 || prior > 0) {
-      // Reported legs need more than the tracker's input: leg-shaped clutter passes the
-      // classifier only just, and its leg tracks gather little evidence.
-      if (!dc.classifier || score[i] > config_.leg_report_margin ||
-          prior > config_.leg_report_evidence)
-        out.legs.push_back({cand[i], score[i], track});
       // A leg on occupied space is no person's leg: the occupancy grid forbids tracks there.
       const auto [b, e] = cand_range[i];
-      if (occupancy_.is_static(std::span(world).subspan(b, e - b))) continue;
-      if (moving_frame && sensor_occupancy_.is_static(std::span(pts).subspan(b, e - b))) continue;
+      const bool occupied =
+          occupancy_.is_static(std::span(world).subspan(b, e - b)) ||
+          (moving_frame && sensor_occupancy_.is_static(std::span(pts).subspan(b, e - b)));
+      // Reported legs need more than the tracker's input: leg-shaped clutter passes the
+      // classifier only just, and its leg tracks gather little evidence.
+      // On occupied space (returns there scan after scan, from before or since the leg was
+      // seen) only a leg the classifier is sure of, or whose track has gathered leg evidence,
+      // is reported: there, most leg-shaped segments are furniture.
+      const bool doubtful = dc.classifier && occupied && score[i] < occupied_score_min &&
+                            prior < occupied_evidence_min;
+      if (!dc.classifier || score[i] > config_.leg_report_margin ||
+          prior > config_.leg_report_evidence) {
+        per_scan_legs.push_back(cand[i]);
+        if (!doubtful) out.legs.push_back({cand[i], score[i], track, prior, occupied});
+      }
+      if (occupied) continue;
       obs.push_back({cand_world[i], score[i] > 0 ? score[i] : config_.carried_leg_score});
       obs_cand.push_back(i);
     }
   }
   prune(leg_evidence_, legs_);
-  // Paired legs of this scan (seed 000, step 3 output), for the record.
+  // Paired legs of this scan (seed 000, step 3 output: per scan, without the occupancy grid's
+  // context), for the record.
   {
     LegDetection det;
-    for (std::size_t i = 0; i < out.legs.size(); ++i)
-      det.legs.push_back({out.legs[i].position_m, 1, std::int32_t(i)});
+    for (std::size_t i = 0; i < per_scan_legs.size(); ++i)
+      det.legs.push_back({per_scan_legs[i], 1, std::int32_t(i)});
     pair_legs(det, dc);
     out.person_detections = det.people.size();
   }

@@ -7,9 +7,14 @@ namespace fieldlidar::people {
 
 StaticBackground::StaticBackground(const StaticBackgroundConfig& c) : config_(c) {
   side_ = std::max(1, int(std::ceil(2 * c.half_extent_m / c.cell_m)));
-  occupancy_.assign(std::size_t(side_) * std::size_t(side_), 0.f);
-  stamp_.assign(occupancy_.size(), 0);
-  key_.assign(occupancy_.size(), {kNoCell, kNoCell});
+  slots_.assign(std::size_t(side_) * std::size_t(side_), Slot{});
+  decay_.resize(256);
+  for (std::size_t a = 0; a < decay_.size(); ++a)
+    decay_[a] = std::pow(1.0 - config_.rate, double(a));
+}
+
+double StaticBackground::decay(std::uint32_t age) const {
+  return age < decay_.size() ? decay_[age] : std::pow(1.0 - config_.rate, double(age));
 }
 
 StaticBackground::Cell StaticBackground::cell_of(const Eigen::Vector2d& p) const {
@@ -19,15 +24,17 @@ StaticBackground::Cell StaticBackground::cell_of(const Eigen::Vector2d& p) const
 std::size_t StaticBackground::slot(const Cell& c) const {
   // The grid wraps around: a cell shares its slot with the cells 2 * half_extent_m away, and
   // the slot remembers which of them it holds.
-  const auto wrap = [&](int i) { return std::size_t(((i % side_) + side_) % side_); };
+  const auto wrap = [&](int i) {
+    const int r = i % side_;
+    return std::size_t(r < 0 ? r + side_ : r);
+  };
   return wrap(c[1]) * std::size_t(side_) + wrap(c[0]);
 }
 
 double StaticBackground::value(const Cell& c) const {
-  const std::size_t i = slot(c);
-  if (key_[i] != c) return 0.0;
-  const auto age = std::uint32_t(scans_) - stamp_[i];
-  return double(occupancy_[i]) * std::pow(1.0 - config_.rate, double(age));
+  const Slot& s = slots_[slot(c)];
+  if (!holds(s, c)) return 0.0;
+  return double(s.occupancy) * decay(std::uint32_t(scans_) - s.stamp);
 }
 
 double StaticBackground::full() const {
@@ -48,12 +55,12 @@ void StaticBackground::add(std::span<const Eigen::Vector2d> points, double weigh
     if (!p.allFinite() || std::abs(p.x()) > kMaxCoordinate_m || std::abs(p.y()) > kMaxCoordinate_m)
       continue;
     const Cell c = cell_of(p);
-    const std::size_t i = slot(c);
-    if (key_[i] == c && stamp_[i] == std::uint32_t(scans_)) continue;
+    Slot& s = slots_[slot(c)];
+    if (holds(s, c) && s.stamp == std::uint32_t(scans_)) continue;
     const double before = value(c);
-    key_[i] = c;
-    occupancy_[i] = float(before + weight * config_.rate);
-    stamp_[i] = std::uint32_t(scans_);
+    s.key = c;
+    s.occupancy = float(before + weight * config_.rate);
+    s.stamp = std::uint32_t(scans_);
   }
 }
 

@@ -135,7 +135,8 @@ TEST(CliLegs, DetectionsCsvAndTrainedConfigRoundTrip) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto at = r.output.find("recall ");
   ASSERT_NE(at, std::string::npos) << r.output;
-  EXPECT_GT(std::stod(r.output.substr(at + 7)), 0.7) << r.output;  // measured 0.762
+  // Measured 0.762: a classifier from legs-train carries no occupied-space margins.
+  EXPECT_GT(std::stod(r.output.substr(at + 7)), 0.74) << r.output;
   std::istringstream in(slurp(csv));
   std::string line;
   std::getline(in, line);
@@ -166,6 +167,17 @@ TEST(CliLegs, DetectionsCsvAndTrainedConfigRoundTrip) {
   r = test::run_cli("legs " + test::data_file(bag).string() + " --topic /training_scan --out " +
                     csv);
   EXPECT_EQ(r.exit_code, 1);  // exists, no --force
+  // The shipped classifier's margins (score 3, evidence 7) forced on this one cost it recall,
+  // measured 0.577: it scores legs lower, and the score margin is in its score units.
+  r = test::run_cli("legs " + test::data_file(bag).string() +
+                    " --topic /training_scan --truth /leg_cluster_positions --truth-wedge -15 15 5"
+                    " --occupied-leg 3 7 --force --config " +
+                    yaml + " --out " + csv);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto at2 = r.output.find("recall ");
+  ASSERT_NE(at2, std::string::npos) << r.output;
+  EXPECT_GT(std::stod(r.output.substr(at2 + 7)), 0.55) << r.output;
+  EXPECT_LT(std::stod(r.output.substr(at2 + 7)), 0.70) << r.output;
 }
 
 // The shipped 2D config (config/legs_2d.yaml + classifier, trained on these bags) on the

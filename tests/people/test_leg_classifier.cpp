@@ -70,6 +70,15 @@ TEST(LegClassifier, LearnsArcsFromWallsAndRoundTripsThroughYaml) {
   EXPECT_DOUBLE_EQ(back.threshold, model.threshold);
   for (std::size_t i = 0; i < x.size(); i += 37)
     EXPECT_NEAR(back.score(x[i]), model.score(x[i]), 1e-6);
+  // A trained classifier carries no occupied-space margins; set ones travel with it.
+  EXPECT_TRUE(std::isinf(back.occupied_score_min) && back.occupied_score_min < 0);
+  EXPECT_EQ(to_yaml(model).find("occupied_leg"), std::string::npos);
+  auto with_margins = model;
+  with_margins.occupied_score_min = 3.0;
+  with_margins.occupied_evidence_min = 7.0;
+  const auto back2 = leg_classifier_from_yaml(to_yaml(with_margins), "model.yaml");
+  EXPECT_DOUBLE_EQ(back2.occupied_score_min, 3.0);
+  EXPECT_DOUBLE_EQ(back2.occupied_evidence_min, 7.0);
   // The classifier drives detect_legs_2d when set.
   LegDetectorConfig c = default_2d_legs();
   c.use_background = false;

@@ -50,6 +50,9 @@ const Data& data() {
 }
 
 /// Trains on every positive bag but `skip_pos` and every negative topic but `skip_neg` (-1 = none).
+/// The classifier carries the shipped classifier's occupied-space margins (score 3 over the
+/// threshold, track evidence 7; config/legs_2d_classifier.yaml): the held-out figures are those
+/// of the shipped setting as if these bags had not been seen.
 std::shared_ptr<const LegClassifier> train_without(int skip_pos, int skip_neg,
                                                    const BoostOptions& o = {}) {
   const auto& d = data();
@@ -58,12 +61,15 @@ std::shared_ptr<const LegClassifier> train_without(int skip_pos, int skip_neg,
     if (b != skip_pos) s.append(d.pos_samples[std::size_t(b)]);
   for (int t = 0; t < int(d.neg_samples.size()); ++t)
     if (t != skip_neg) s.append(d.neg_samples[std::size_t(t)]);
-  return std::make_shared<const LegClassifier>(train_leg_classifier(s.features, s.is_leg, o));
+  LegClassifier c = train_leg_classifier(s.features, s.is_leg, o);
+  c.occupied_score_min = 3.0;
+  c.occupied_evidence_min = 7.0;
+  return std::make_shared<const LegClassifier>(std::move(c));
 }
 
 struct HeldOut {
   MatchCounts legs, legs_whole_scan;
-  std::size_t false_persons = 0, person_detections = 0, negative_scans = 0;
+  std::size_t false_persons = 0, false_legs = 0, person_detections = 0, negative_scans = 0;
   /// Positive scans with both legs of the walker annotated (< 0.5 m apart), and those of them
   /// with a reported person within 0.3 m of the legs' mean.
   std::size_t two_leg_scans = 0, two_leg_scans_reported = 0;
@@ -71,6 +77,7 @@ struct HeldOut {
   double recall() const { return legs.recall(); }
   double precision() const { return legs.precision(); }
   double false_persons_per_scan() const { return double(false_persons) / double(negative_scans); }
+  double false_legs_per_scan() const { return double(false_legs) / double(negative_scans); }
   double person_detections_per_scan() const {
     return double(person_detections) / double(negative_scans);
   }
@@ -108,26 +115,32 @@ HeldOut held_out(const LegPipeline2DConfig& base, const BoostOptions& o = {}) {
     auto config = base;
     config.detector.classifier = train_without(-1, t, o);
     LegPipeline2D pipeline(config);
-    std::size_t persons = 0;
+    std::size_t persons = 0, legs = 0;
     for (const auto& scan : d.neg[std::size_t(t)]) {
       const auto out = pipeline.process(scan.stamp_s, scan.points);
       persons += out.people.size();
+      legs += out.legs.size();
       h.person_detections += out.person_detections;
     }
-    std::printf("  held-out negative topic %d: false persons/scan %.4f\n", t,
-                double(persons) / double(d.neg[std::size_t(t)].size()));
+    std::printf("  held-out negative topic %d: false persons/scan %.4f, false legs/scan %.3f\n", t,
+                double(persons) / double(d.neg[std::size_t(t)].size()),
+                double(legs) / double(d.neg[std::size_t(t)].size()));
     h.false_persons += persons;
+    h.false_legs += legs;
     h.negative_scans += d.neg[std::size_t(t)].size();
   }
   std::printf(
-      "  => recall %.4f precision %.4f (whole scan %.4f) false persons/scan %.4f (paired-leg "
-      "detections/scan before tracking %.4f); walker reported on %.3f of %zu two-leg scans\n",
+      "  => recall %.4f precision %.4f (whole scan %.4f) false persons/scan %.4f, false legs/scan "
+      "%.3f (paired-leg detections/scan before tracking %.4f); walker reported on %.3f of %zu "
+      "two-leg scans\n",
       h.recall(), h.precision(), h.legs_whole_scan.precision(), h.false_persons_per_scan(),
-      h.person_detections_per_scan(), h.person_rate(), h.two_leg_scans);
+      h.false_legs_per_scan(), h.person_detections_per_scan(), h.person_rate(), h.two_leg_scans);
   return h;
 }
 
-// Measured held out (Release): see the closing figures printed by the test.
+// Measured held out (Release): see the closing figures printed by the test. Leg recall 0.917
+// (0.954 before legs on occupied space needed a sure score or track evidence), false legs per
+// scan on negative_2.bag 0.80 (3.84 before).
 TEST(LegsPipelineReal, HeldOutMeetsTheTargets) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d/positive_1_extracted.bag");
   FIELDLIDAR_REQUIRE_DATA("legs_2d/negative_2.bag");
@@ -137,6 +150,7 @@ TEST(LegsPipelineReal, HeldOutMeetsTheTargets) {
   EXPECT_GE(h.recall(), 0.90);
   EXPECT_GE(h.precision(), 0.90);
   EXPECT_LE(h.false_persons_per_scan(), 0.02);
+  EXPECT_LE(h.false_legs_per_scan(), 0.85);
   // The walker is reported on about half the scans that show both legs (the rest: before the
   // first metre walked, or while the track is being confirmed).
   EXPECT_GT(h.person_rate(), 0.45);

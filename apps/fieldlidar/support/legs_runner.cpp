@@ -67,6 +67,10 @@ LegsRunner::LegsRunner(const LegsRunOptions& o)
   pipeline_config.detector = legs_;
   pipeline_config.estimate_ego_motion = !o.still;
   pipeline_config.compact_occupancy_weight = o.compact_occupancy;
+  if (o.occupied_leg.size() == 2) {
+    pipeline_config.occupied_leg_score_min = o.occupied_leg[0];
+    pipeline_config.occupied_leg_evidence_min = o.occupied_leg[1];
+  }
   pipeline_ = std::make_unique<people::LegPipeline2D>(pipeline_config);
 }
 

@@ -29,6 +29,9 @@ struct LegsRunOptions {
   bool no_classifier = false;
   /// 2D: LegPipeline2DConfig::compact_occupancy_weight (0..1).
   double compact_occupancy = 1.0;
+  /// 2D: LegPipeline2DConfig::occupied_leg_score_min / occupied_leg_evidence_min (empty: the
+  /// defaults, tuned for the shipped classifier's score scale).
+  std::vector<double> occupied_leg;
 };
 
 /// One frame's legs and reported persons (sensor frame, m) with the persons' track ids.

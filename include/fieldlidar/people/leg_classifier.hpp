@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -56,6 +57,12 @@ struct BoostTree {
 struct LegClassifier {
   std::vector<BoostTree> trees;
   double threshold = 0.0;  ///< a segment is a leg when score() > threshold
+  /// LegPipeline2D's rule for legs on occupied space (LegPipeline2DConfig::
+  /// occupied_leg_score_min / occupied_leg_evidence_min), kept with the classifier because the
+  /// score margin is in this classifier's score units: a classifier trained on other data scores
+  /// differently. -inf / -inf (what legs-train writes): no such rule.
+  double occupied_score_min = -std::numeric_limits<double>::infinity();
+  double occupied_evidence_min = -std::numeric_limits<double>::infinity();
   double score(const SegmentFeatures& f) const;
   bool is_leg(const SegmentFeatures& f) const { return score(f) > threshold; }
 };

@@ -50,12 +50,20 @@ class StaticBackground {
   std::size_t slot(const Cell& c) const;
   double value(const Cell& c) const;  ///< occupancy of a cell now (its decay applied)
   double full() const;                ///< occupancy of a cell hit in every scan so far
+  /// One grid slot, its fields side by side (a lookup touches one cache line).
+  struct Slot {
+    Cell key = {kNoCell, kNoCell};  ///< the cell the slot holds
+    std::uint32_t stamp = 0;        ///< last scan that hit the slot (to count a cell once)
+    float occupancy = 0.f;
+  };
+  static bool holds(const Slot& s, const Cell& c) { return s.key[0] == c[0] && s.key[1] == c[1]; }
+  /// (1 - rate)^age, tabulated for the ages met most (std::pow beyond, the same values).
+  double decay(std::uint32_t age) const;
   StaticBackgroundConfig config_;
   int side_ = 0;
   int scans_ = 0;
-  std::vector<float> occupancy_;
-  std::vector<std::uint32_t> stamp_;  ///< last scan that hit the slot (to count a cell once)
-  std::vector<Cell> key_;             ///< the cell a slot holds
+  std::vector<Slot> slots_;
+  std::vector<double> decay_;
 };
 
 }  // namespace fieldlidar::people
