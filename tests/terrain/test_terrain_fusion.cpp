@@ -198,15 +198,15 @@ TEST(TerrainFusion, WholeDriveAgainstTruth) {
 // with true poses, 1.63/2.26/2.08 with odometry poses (on seeds 21-25, 2.29-3.62 and 6.6-6.9
 // before an impassable cell's slope came from the clear ground around it: the ~2 deg target is
 // not met with odometry poses on seeds 24/25). Recall on tuned seeds 21/22: 0.989 / 0.987,
-// 0.992 / 0.993; seeds 26/27, never used before: 0.998 / 0.998, 0.995 / 0.992. Seed 23 with true poses was 0.970 before a
-// bump's rim blocked (a low rock kept as ground marks its 4 neighbours); of its 27 missed cells
-// now, 23 are one rock (0.69 m radius, 0.62 m high) standing in a 0.9 m pit with its top level
-// with the pit's rim, seen only from 12-14 m: the map sees one flat surface there (the gap
-// between rock and wall is hidden at that grazing angle). Seed 24's 26 misses with odometry
-// poses: 20 cells beside a ditch's or pit's edge (the truth takes the steepest point of the cell
-// and the height range of its neighbours), 6 a rock's or bush's footprint touches by 2-21 cm, of
-// which 2 where the odometry is 0.54 m off. The same drives with the sensor noise drawn at other
-// sweep times moved recall by about +-0.005.
+// 0.992 / 0.993; seeds 26/27, never used before: 0.998 / 0.998, 0.995 / 0.992. Seed 23 with true
+// poses was 0.970 before a bump's rim blocked (a low rock kept as ground marks its 4 neighbours);
+// of its 27 missed cells now, 23 are one rock (0.69 m radius, 0.62 m high) standing in a 0.9 m pit
+// with its top level with the pit's rim, seen only from 12-14 m: the map sees one flat surface
+// there (the gap between rock and wall is hidden at that grazing angle). Seed 24's 26 misses with
+// odometry poses: 20 cells beside a ditch's or pit's edge (the truth takes the steepest point of
+// the cell and the height range of its neighbours), 6 a rock's or bush's footprint touches by 2-21
+// cm, of which 2 where the odometry is 0.54 m off. The same drives with the sensor noise drawn at
+// other sweep times moved recall by about +-0.005.
 TEST(TerrainFusion, EverySweepDeskewed) {
   for (std::uint64_t seed : {23u, 24u, 25u}) {
     const SweepRun r = every_sweep(seed);
