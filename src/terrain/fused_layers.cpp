@@ -62,14 +62,19 @@ double clear_ground_slope_deg(const CellBlock& store, int ix, int iy, int half,
                               const FusionConfig& config) {
   const FusedCell& cell = *store.find(ix, iy);
   const TraversabilityConfig& c = config.layers;
+  const double min_nz = std::cos(c.robot.max_slope_deg * kDeg);
   PlaneSums sums;
   for (int dy = -half; dy <= half; ++dy)
     for (int dx = -half; dx <= half; ++dx) {
-      const FusedCell* q = store.find(ix + dx, iy + dy);
+      FusedCell* q = store.find(ix + dx, iy + dy);
       if (!q || q->ground.n < config.min_ground_points || q->log_odds > 0.0f || q->bump) continue;
-      if (q->ground.n >= c.min_voxel_points &&
-          slope_deg(plane_normal(q->ground)) > c.robot.max_slope_deg)
-        continue;
+      if (q->ground.n >= c.min_voxel_points) {
+        if (!q->own_normal_fresh) {  // the same plane derive_cell caches for q's own slope
+          q->own_normal = plane_normal(q->ground);
+          q->own_normal_fresh = true;
+        }
+        if (q->own_normal.z() < min_nz) continue;
+      }
       sums.add_shifted(q->ground, offset(c.cell_m, dx, dy, cell.z_ref, q->z_ref));
     }
   return sums.n >= c.min_voxel_points ? slope_deg(plane_normal(sums))
