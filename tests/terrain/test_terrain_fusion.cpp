@@ -172,7 +172,7 @@ SweepRun every_sweep(std::uint64_t seed) {
 // kept as ground were found as bumps); impassable precision 0.67-0.69; passable precision
 // 0.995-0.999; coverage 0.80-0.84. Slope RMSE on the cells both the truth and the map call
 // passable (the slopes a planner uses): 0.86-1.08 deg; on every truth-passable cell the map
-// knows: 1.13/1.38 tuned, 1.01/1.15/1.25 held out (2.96/4.13 and 3.02/4.24/3.54 with the
+// knows: 1.13/1.39 tuned, 1.01/1.15/1.25 held out (2.96/4.13 and 3.02/4.24/3.54 with the
 // impassable cells' slope from their own plane, which takes in the foot of the rock beside them:
 // 19-22 deg there).
 TEST(TerrainFusion, WholeDriveAgainstTruth) {

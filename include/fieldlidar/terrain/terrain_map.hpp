@@ -95,7 +95,8 @@ struct FusionConfig {
   int min_own_plane_points = 40;
   /// The slope layer of an impassable cell is the plane of the ground returns around it that
   /// hold no obstacle (cells with obstacle evidence, bumps or returns steeper than max_slope_deg
-  /// left out; NaN when too few are left) rather than its own plane, which takes in a rock's foot
+  /// left out; when too few are left, only the steep ones; NaN when still too few) rather than
+  /// its own plane, which takes in a rock's foot
   /// the ground segmentation kept: the ground's slope, not the rock's. The classification is
   /// the same either way.
   bool blocked_slope_from_clear_ground = true;
