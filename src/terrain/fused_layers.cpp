@@ -51,6 +51,40 @@ double edge_slope_deg(const CellBlock& store, int ix, int iy, const FusionConfig
   return std::atan(steepest) / kDeg;
 }
 
+/// Slope (deg) of the ground surface about a blocked cell (ix, iy): the plane of the ground
+/// returns of the window's cells that hold no obstacle evidence, were not last derived as a bump
+/// and whose own returns (min_voxel_points or more) are no steeper than the robot can climb: a
+/// rock's foot or face the ground segmentation kept as ground stays out of it. When those hold
+/// fewer than min_voxel_points returns (a survey of a forest: obstacle evidence in every cell,
+/// clean ground under it), the cells with obstacle evidence or bumps count too, the steep ones
+/// still not; NaN when even those are too few. Seeds 21/22, scans every 0.5 s: slope RMSE on
+/// truth-passable cells 2.96/4.13 deg with the cell's own plane, 1.13/1.39 deg with this.
+double clear_ground_slope_deg(const CellBlock& store, int ix, int iy, int half,
+                              const FusionConfig& config) {
+  const FusedCell& cell = *store.find(ix, iy);
+  const TraversabilityConfig& c = config.layers;
+  const double min_nz = std::cos(c.robot.max_slope_deg * kDeg);
+  for (const bool skip_obstacles : {true, false}) {
+    PlaneSums sums;
+    for (int dy = -half; dy <= half; ++dy)
+      for (int dx = -half; dx <= half; ++dx) {
+        FusedCell* q = store.find(ix + dx, iy + dy);
+        if (!q || q->ground.n < config.min_ground_points) continue;
+        if (skip_obstacles && (q->log_odds > 0.0f || q->bump)) continue;
+        if (q->ground.n >= c.min_voxel_points) {
+          if (!q->own_normal_fresh) {  // the same plane derive_cell caches for q's own slope
+            q->own_normal = plane_normal(q->ground);
+            q->own_normal_fresh = true;
+          }
+          if (q->own_normal.z() < min_nz) continue;
+        }
+        sums.add_shifted(q->ground, offset(c.cell_m, dx, dy, cell.z_ref, q->z_ref));
+      }
+    if (sums.n >= c.min_voxel_points) return slope_deg(plane_normal(sums));
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
 bool seen(const FusedCell* q, const FusionConfig& config) {
   return q && (q->ground.n >= config.min_ground_points || q->log_odds > 0.0f);
 }
@@ -198,7 +232,7 @@ void derive_cell(const CellBlock& store, int ix, int iy, int half, const FusionC
   L[kNx] = float(normal.x());
   L[kNy] = float(normal.y());
   L[kNz] = float(normal.z());
-  L[kSlope] = float(rho);
+  L[kSlope] = float(rho);  // a blocked cell's is set below
   L[kRough] = float(rough);
   L[kRoughSum] = float(rough * cell->ground.n);
   L[kStep] = float(step);
@@ -210,6 +244,11 @@ void derive_cell(const CellBlock& store, int ix, int iy, int half, const FusionC
   const bool blocked = too_steep || step > c.robot.max_step_m || obstacle || bumped;
   if (!blocked && config.passable_needs_full_window && !window_seen(store, ix, iy, half, config))
     return;  // part of the robot's footprint unseen (a shadow: behind a rock, inside a pit)
+  // The slope of a blocked cell is the ground's around it without the obstacle's returns; its
+  // normal layers stay the cell's own plane (obstacle heights of later scans are measured from
+  // it), so does the classification above.
+  if (blocked && config.blocked_slope_from_clear_ground)
+    L[kSlope] = float(clear_ground_slope_deg(store, ix, iy, half, config));
   L[kImpass] = blocked ? 1.0f : 0.0f;
   L[kTau] = blocked ? 0.0f
                     : float(std::clamp(1.0 - c.weight_slope * rho / c.robot.max_slope_deg -

@@ -1,6 +1,7 @@
 // The fused map on synthetic returns with exact answers: statistics add up across scans, layers
 // follow, obstacle evidence decays when the ground is seen again, unknown stays unknown.
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -174,6 +175,47 @@ TEST(TerrainFusionCells, LowRockKeptAsGroundBlocksAStepDoesNot) {
   TerrainMap without(no_bump);
   without.add_points(pts, ground, {5, 5, 1.2});
   EXPECT_EQ(*without.global_map().value_at(layer::kImpassable, {3.25, 5.25}), 0.0f);
+}
+
+// The slope of an impassable cell is the ground's around it, not the rock's: a low rock (0.25 m,
+// 0.3 m radius) kept as ground on a 10 deg slope, across two cells, blocks them and their rim;
+// their slope is read from the clear cells around them (9.9-10.1 deg; their own planes say 39 and
+// 24 deg). The classification is the same either way.
+TEST(TerrainFusionCells, BlockedCellsGetTheGroundsSlope) {
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::uint8_t> ground;
+  const double rise = std::tan(10.0 * M_PI / 180);
+  for (double x = 0.025; x < 10; x += 0.05)
+    for (double y = 0.025; y < 10; y += 0.05) {
+      double z = rise * x;
+      const double r = std::hypot(x - 3.5, y - 5.25);
+      if (r < 0.3) z += 0.25 * std::sqrt(1 - r * r / 0.09);
+      pts.emplace_back(x, y, z);
+      ground.push_back(1);
+    }
+  const std::vector<Eigen::Vector2d> blocked = {{3.25, 5.25}, {3.75, 5.25}, {2.75, 5.25},
+                                                {4.25, 5.25}, {3.25, 4.75}, {3.75, 5.75}};
+  FusionConfig own_plane;
+  own_plane.blocked_slope_from_clear_ground = false;
+  for (const FusionConfig& config : {FusionConfig{}, own_plane}) {
+    TerrainMap map(config);
+    map.add_points(pts, ground, {5, 5, 1.2 + rise * 5});
+    const Grid2D m = map.global_map();
+    for (const Eigen::Vector2d& c : blocked) {
+      EXPECT_EQ(*m.value_at(layer::kImpassable, c), 1.0f) << c.transpose();
+      const float slope = *m.value_at(layer::kSlopeDeg, c);
+      std::printf("%s (%.2f, %.2f): slope %.2f\n",
+                  config.blocked_slope_from_clear_ground ? "clear" : "own", c.x(), c.y(), slope);
+      if (config.blocked_slope_from_clear_ground) {
+        EXPECT_NEAR(slope, 10.0, 0.5) << c.transpose();
+      }
+    }
+    if (!config.blocked_slope_from_clear_ground) {  // the rock's two cells, from their own returns
+      EXPECT_GT(*m.value_at(layer::kSlopeDeg, blocked[0]), 20.0f);
+      EXPECT_GT(*m.value_at(layer::kSlopeDeg, blocked[1]), 20.0f);
+    }
+    EXPECT_NEAR(*m.value_at(layer::kSlopeDeg, {3.25, 6.25}), 10.0, 0.1);  // passable: as before
+  }
 }
 
 // A branch over a track, seen from afar, that the ground segmentation took for ground (terrain

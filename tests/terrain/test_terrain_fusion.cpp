@@ -170,8 +170,11 @@ SweepRun every_sweep(std::uint64_t seed) {
 // 0.5 s): impassable recall 0.986/0.996 tuned, 0.982/0.988/0.991 held out (0.972/0.990 and
 // 0.972/0.974/0.976 before a bump's rim blocked; 0.967/0.987, 0.972/0.966/0.971 before low rocks
 // kept as ground were found as bumps); impassable precision 0.67-0.69; passable precision
-// 0.995-0.999; coverage 0.80-0.84. Slope RMSE is on the cells both the truth and the map call
-// passable (the slopes a planner uses): 0.86-1.08 deg.
+// 0.995-0.999; coverage 0.80-0.84. Slope RMSE on the cells both the truth and the map call
+// passable (the slopes a planner uses): 0.86-1.08 deg; on every truth-passable cell the map
+// knows: 1.13/1.39 tuned, 1.01/1.15/1.25 held out (2.96/4.13 and 3.02/4.24/3.54 with the
+// impassable cells' slope from their own plane, which takes in the foot of the rock beside them:
+// 19-22 deg there).
 TEST(TerrainFusion, WholeDriveAgainstTruth) {
   for (std::uint64_t seed : {21u, 22u, 23u, 24u, 25u}) {
     const DriveResult r = drive({}, seed, false, 0.5);
@@ -183,6 +186,7 @@ TEST(TerrainFusion, WholeDriveAgainstTruth) {
     EXPECT_GT(r.score.impassable_precision(), 0.65) << seed;
     EXPECT_GT(r.score.coverage(), 0.75) << seed;
     EXPECT_LT(r.score.slope_rmse_agreed(), 1.5) << seed;
+    EXPECT_LT(r.score.slope_rmse(), 2.0) << seed;
   }
 }
 
@@ -190,16 +194,19 @@ TEST(TerrainFusion, WholeDriveAgainstTruth) {
 // odometry; seeds 23-25 held out. Measured, impassable recall with true / odometry poses: 0.979 /
 // 0.985, 0.989 / 0.980, 0.989 / 0.992 (the odometry's largest position error 0.48, 0.65, 0.49 m);
 // passable precision 0.994-0.997; slope RMSE on the cells both call passable 0.83-1.07 deg (true
-// poses), 1.17-1.46 deg (odometry). Tuned seeds 21/22: 0.989 / 0.987, 0.992 / 0.993; seeds 26/27,
-// never used before: 0.998 / 0.998, 0.995 / 0.992. Seed 23 with true poses was 0.970 before a
-// bump's rim blocked (a low rock kept as ground marks its 4 neighbours); of its 27 missed cells
-// now, 23 are one rock (0.69 m radius, 0.62 m high) standing in a 0.9 m pit with its top level
-// with the pit's rim, seen only from 12-14 m: the map sees one flat surface there (the gap
-// between rock and wall is hidden at that grazing angle). Seed 24's 26 misses with odometry
-// poses: 20 cells beside a ditch's or pit's edge (the truth takes the steepest point of the cell
-// and the height range of its neighbours), 6 a rock's or bush's footprint touches by 2-21 cm, of
-// which 2 where the odometry is 0.54 m off. The same drives with the sensor noise drawn at other
-// sweep times moved recall by about +-0.005.
+// poses), 1.17-1.46 deg (odometry); on every truth-passable cell the map knows 1.00/1.12/1.44 deg
+// with true poses, 1.77/2.26/2.09 with odometry poses (on seeds 21-25, 2.29-3.62 and 6.6-6.9
+// before an impassable cell's slope came from the clear ground around it: the ~2 deg target is
+// not met with odometry poses on seeds 24/25). Recall on tuned seeds 21/22: 0.989 / 0.987,
+// 0.992 / 0.993; seeds 26/27, never used before: 0.998 / 0.998, 0.995 / 0.992. Seed 23 with true
+// poses was 0.970 before a bump's rim blocked (a low rock kept as ground marks its 4 neighbours);
+// of its 27 missed cells now, 23 are one rock (0.69 m radius, 0.62 m high) standing in a 0.9 m pit
+// with its top level with the pit's rim, seen only from 12-14 m: the map sees one flat surface
+// there (the gap between rock and wall is hidden at that grazing angle). Seed 24's 26 misses with
+// odometry poses: 20 cells beside a ditch's or pit's edge (the truth takes the steepest point of
+// the cell and the height range of its neighbours), 6 a rock's or bush's footprint touches by 2-21
+// cm, of which 2 where the odometry is 0.54 m off. The same drives with the sensor noise drawn at
+// other sweep times moved recall by about +-0.005.
 TEST(TerrainFusion, EverySweepDeskewed) {
   for (std::uint64_t seed : {23u, 24u, 25u}) {
     const SweepRun r = every_sweep(seed);
@@ -215,6 +222,8 @@ TEST(TerrainFusion, EverySweepDeskewed) {
     EXPECT_GT(r.true_poses.coverage(), 0.75) << seed;
     EXPECT_LT(r.true_poses.slope_rmse_agreed(), 1.5) << seed;
     EXPECT_LT(r.odometry.slope_rmse_agreed(), 2.0) << seed;
+    EXPECT_LT(r.true_poses.slope_rmse(), 2.0) << seed;
+    EXPECT_LT(r.odometry.slope_rmse(), 2.6) << seed;
   }
 }
 

@@ -150,7 +150,10 @@ TEST(TerrainReal, AirborneSlopeAgainstClassifiedGround) {
           "%zu), %.3f s CPU\n",
           fused ? "fused" : "single", cell_m, rmse, m, known, g.cell_count(), cpu_s);
       // Measured: single-scan layers 4.63 / 6.82 deg (3 / 5 m cells), fused layers with a cell's
-      // own plane 3.04 / 3.25 deg. Class 2 is ~0.25 returns per m2: few 3 m cells hold 5 of them.
+      // own plane 3.04 / 3.25 deg over 34 / 432 cells; 2.96 / 3.19 deg over 32 / 412 cells with
+      // an impassable cell's slope from the ground around it without the steep cells (NaN on 70
+      // of 1265 known 5 m cells: too few non-steep ground returns in their window). Class 2 is
+      // ~0.25 returns per m2: few 3 m cells hold 5 of them.
       EXPECT_GT(m, cell_m > 4 ? 400 : 30);
       EXPECT_LT(rmse, fused ? 3.5 : 7.5);
       // Time is printed, not asserted: bench_terrain measures it (0.01-0.04 s in Release).

@@ -93,6 +93,13 @@ struct FusionConfig {
   /// A cell's own plane gives its slope once it holds this many ground returns (else the voxel
   /// window's plane does).
   int min_own_plane_points = 40;
+  /// The slope layer of an impassable cell is the plane of the ground returns around it that
+  /// hold no obstacle (cells with obstacle evidence, bumps or returns steeper than max_slope_deg
+  /// left out; when too few are left, only the steep ones; NaN when still too few) rather than
+  /// its own plane, which takes in a rock's foot
+  /// the ground segmentation kept: the ground's slope, not the rock's. The classification is
+  /// the same either way.
+  bool blocked_slope_from_clear_ground = true;
   /// The step over the voxel window: range of the cells' mean offsets from the plane, each widened
   /// by this many standard deviations of its returns about the plane.
   double step_sigmas = 1.0;
