@@ -5,7 +5,8 @@
 # shipped classifier and the consumer example, without LD_LIBRARY_PATH), and the Release build's
 # tests last. Tests labelled "slow" (whole closed-loop runs, real-scan evaluations) and the
 # end-to-end follow command run in the Release stage only: under the sanitizers they take minutes
-# each.
+# each. The sanitizer build (Debug, no compiler launcher) precompiles the widely included headers
+# (FIELDLIDAR_PCH, cmake/FieldlidarPch.cmake).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
