@@ -31,6 +31,7 @@ function(fieldlidar_add_module name)
   if(FIELDLIDAR_PCH)
     target_precompile_headers(fieldlidar_${name} REUSE_FROM fieldlidar_pch_library)
   endif()
+  fieldlidar_unity(fieldlidar_${name})
   install(TARGETS fieldlidar_${name} EXPORT fieldlidarTargets
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
