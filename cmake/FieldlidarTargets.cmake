@@ -28,6 +28,10 @@ function(fieldlidar_add_module name)
     OUTPUT_NAME fieldlidar_${name} VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}
     INSTALL_RPATH "$ORIGIN")
   fieldlidar_target_options(fieldlidar_${name})
+  if(FIELDLIDAR_PCH)
+    target_precompile_headers(fieldlidar_${name} REUSE_FROM fieldlidar_pch_library)
+  endif()
+  fieldlidar_unity(fieldlidar_${name})
   install(TARGETS fieldlidar_${name} EXPORT fieldlidarTargets
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
@@ -47,6 +51,9 @@ function(fieldlidar_add_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} fieldlidar_test_support GTest::gtest_main)
   fieldlidar_target_options(${name})
+  if(FIELDLIDAR_PCH)
+    target_precompile_headers(${name} REUSE_FROM fieldlidar_pch_test)
+  endif()
   # The data folder is compiled in as the default (FIELDLIDAR_DATA_DIR in the environment still
   # overrides it), so a test finds the data however it is started.
   target_compile_definitions(${name} PRIVATE
