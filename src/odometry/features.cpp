@@ -68,24 +68,32 @@ void ring_curvature(std::span<const Eigen::Vector3f> p, int n, const FeatureConf
   const int m = int(p.size());
   c.assign(m, -1.f);
   if (m < 2 * n + 1) return;
+  // Squared lengths first, their roots and quotients then four at a time (the same float
+  // operations as norm() and the division per point: the sqrt and div latencies were most of
+  // the time here).
+  using Map = Eigen::Map<Eigen::ArrayXf>;
   auto& r = scratch.r;
   auto& gaps = scratch.gaps;
   auto& bad = scratch.bad;
   r.resize(m);
-  for (int k = 0; k < m; ++k) r[k] = p[k].norm();
+  for (int k = 0; k < m; ++k) r[k] = p[k].squaredNorm();
+  Map(r.data(), m) = Map(r.data(), m).sqrt();
   // sum_j (X_k - X_j) over the 2n neighbours = (2n + 1) X_k - (sum of the window), the window
   // sum kept by sliding.
   Eigen::Vector3f window = Eigen::Vector3f::Zero();
   for (int j = 0; j <= 2 * n; ++j) window += p[j];
   for (int k = n; k < m - n; ++k) {
     if (k > n) window += p[k + n] - p[k - n - 1];
-    c[k] = (float(2 * n + 1) * p[k] - window).norm() / (2.f * n * r[k]);
+    c[k] = (float(2 * n + 1) * p[k] - window).squaredNorm();
   }
+  const int w = m - 2 * n;
+  Map(c.data() + n, w) = Map(c.data() + n, w).sqrt() / ((2.f * n) * Map(r.data() + n, w));
   if (!cfg) return;
   // LOAM's unreliable points: the farther side of an occlusion, surfaces parallel to the beam.
   bad.assign(m, 0);
   gaps.resize(m - 1);  // gaps[k] = |p[k+1] - p[k]|
-  for (int k = 0; k + 1 < m; ++k) gaps[k] = (p[k + 1] - p[k]).norm();
+  for (int k = 0; k + 1 < m; ++k) gaps[k] = (p[k + 1] - p[k]).squaredNorm();
+  Map(gaps.data(), m - 1) = Map(gaps.data(), m - 1).sqrt();
   for (int k = 0; k + 1 < m; ++k) {
     const float gap = gaps[k];
     const float lim = std::max(float(cfg->max_neighbour_gap_m),
@@ -100,10 +108,11 @@ void ring_curvature(std::span<const Eigen::Vector3f> p, int n, const FeatureConf
       for (int j = std::max(0, k - n + 1); j <= std::min(m - 1, k + n); ++j) bad[j] = 1;
     }
   }
+  const double min_r = cfg->min_range_m, max_r = cfg->max_range_m;
   for (int k = 1; k + 1 < m; ++k) {
     const float lim = 0.02f * r[k];
     if (gaps[k] > lim && gaps[k - 1] > lim) bad[k] = 1;
-    if (r[k] < cfg->min_range_m || r[k] > cfg->max_range_m) bad[k] = 1;
+    if (r[k] < min_r || r[k] > max_r) bad[k] = 1;
   }
   for (int k = 0; k < m; ++k)
     if (bad[k]) c[k] = -1.f;
