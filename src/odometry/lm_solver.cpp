@@ -147,6 +147,7 @@ LmResult solve_lm(std::span<const Correspondence> matches, const Pose& T_world_l
     ++out.iterations;
     if (trial.cost <= sys.cost) {
       out.T_world_lidar = T_new;
+      out.last_step = dx.norm();
       sys = trial;
       lambda = std::max(lambda * 0.3, 1e-9);
       if (dx.norm() < config.min_step) {
