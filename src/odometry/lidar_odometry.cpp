@@ -5,7 +5,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <limits>
 
 #include <fmt/core.h>
 
@@ -208,24 +207,10 @@ bool LidarOdometry::match_rounds(const LocalMap& map, const Features& features, 
   std::vector<Eigen::Vector3f> looked_up(n);
   const float reassociate2 = float(config_.reassociate_m * config_.reassociate_m);
   bool registered = false;
-  double last_step = std::numeric_limits<double>::infinity();
   for (int round = 0; round < config_.max_associations; ++round) {
     matches.clear();
     const Eigen::Matrix3f R = T.linear().cast<float>();
     const Eigen::Vector3f tr = T.translation().cast<float>();
-    // The last LM step was under convergence_m and no feature moved far enough to be looked up
-    // again: another round would only go on with the same solve.
-    if (round > 0 && last_step < config_.convergence_m) {
-      bool moved = false;
-      for (std::size_t i = 0; i < n && !moved; ++i) {
-        const Eigen::Vector3f& p = i < n_edges ? features.edges[i] : features.planes[i - n_edges];
-        moved = (R * p + tr - looked_up[i]).squaredNorm() > reassociate2;
-      }
-      if (!moved) {
-        result.converged = true;
-        break;
-      }
-    }
     for (std::size_t i = 0; i < n; ++i) {
       const bool edge = i < n_edges;
       const Eigen::Vector3f& p = edge ? features.edges[i] : features.planes[i - n_edges];
@@ -249,7 +234,6 @@ bool LidarOdometry::match_rounds(const LocalMap& map, const Features& features, 
     result.eigenvalues = lm.eigenvalues;
     result.information_ratio = lm.information_ratio;
     const Pose step = lm.T_world_lidar * T.inverse();
-    last_step = lm.last_step;
     T = lm.T_world_lidar;
     registered = true;
     result.registered = true;

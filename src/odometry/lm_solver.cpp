@@ -34,18 +34,6 @@ struct System {
 System build(std::span<const Correspondence> matches, const Pose& T, double scale) {
   System s;
   const double c2 = scale * scale;
-  // The Cauchy cost c2 sum log(1 + e2 / c2), as one log per 16 residuals of the product of their
-  // (1 + e2 / c2): a log per residual was a tenth of the solve.
-  double product = 1.0;
-  int in_product = 0;
-  const auto add_cost = [&](double f) {
-    product *= f;
-    if (++in_product == 16) {
-      s.cost += c2 * std::log(product);
-      product = 1.0;
-      in_product = 0;
-    }
-  };
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Vector3d t = T.translation();
   for (const auto& m : matches) {
@@ -55,9 +43,9 @@ System build(std::span<const Correspondence> matches, const Pose& T, double scal
     if (m.is_edge) {
       // Perpendicular part of d; J = P [-[q]x, I] = [-(P [q]x), P] with P = I - u u^T.
       const Eigen::Vector3d r = d - m.direction * m.direction.dot(d);
-      const double f = 1.0 + r.squaredNorm() / c2;
-      add_cost(f);
-      const double w = 1.0 / f;
+      const double e2 = r.squaredNorm();
+      s.cost += c2 * std::log1p(e2 / c2);
+      const double w = 1.0 / (1.0 + e2 / c2);
       const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - m.direction * m.direction.transpose();
       Eigen::Matrix<double, 6, 3> Jt;  // J^T
       Jt.topRows<3>() = (P * skew(q)).transpose() * -1.0;
@@ -66,9 +54,8 @@ System build(std::span<const Correspondence> matches, const Pose& T, double scal
       s.g.noalias() += Jt * (w * r);
     } else {
       const double r = m.direction.dot(d);
-      const double f = 1.0 + r * r / c2;
-      add_cost(f);
-      const double w = 1.0 / f;
+      s.cost += c2 * std::log1p(r * r / c2);
+      const double w = 1.0 / (1.0 + r * r / c2);
       Vec6 Jt;  // J^T = [q x n; n]
       Jt.head<3>() = q.cross(m.direction);
       Jt.tail<3>() = m.direction;
@@ -76,7 +63,6 @@ System build(std::span<const Correspondence> matches, const Pose& T, double scal
       s.g.noalias() += (w * r) * Jt;
     }
   }
-  s.cost += c2 * std::log(product);
   return s;
 }
 
@@ -147,7 +133,6 @@ LmResult solve_lm(std::span<const Correspondence> matches, const Pose& T_world_l
     ++out.iterations;
     if (trial.cost <= sys.cost) {
       out.T_world_lidar = T_new;
-      out.last_step = dx.norm();
       sys = trial;
       lambda = std::max(lambda * 0.3, 1e-9);
       if (dx.norm() < config.min_step) {

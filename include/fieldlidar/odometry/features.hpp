@@ -30,13 +30,15 @@ struct FeatureConfig {
   int map_plane_stride = 4;
   /// LidarOdometry matches the selected planar points thinned to one per cube of this side (m),
   /// the first in the strong-before-weak order kept, as LOAM's mapping stage thins a sweep's
-  /// features before matching (0 = all matched). On the ground the 20 points per sector of
-  /// neighbouring rings crowd together: on a VLP-16 greenhouse sweep 0.15 m keeps 1078 of 1582,
-  /// and matching was half of the sweep's time. Greenhouse frames 0-599 (IMU + wheels): RPE
-  /// 0.34 cm / 0.033 deg with 0 or 0.1, 0.39 / 0.035 with 0.15, 0.40 / 0.037 with 0.2; 0.2 also
-  /// took the follow loop's crossing run (odometry poses) to a 0.42 m boundary Hausdorff (0.25 m
-  /// with 0.15). A coarse re-alignment still uses them all.
-  double match_plane_spacing_m = 0.15;
+  /// features before matching (0 = all matched; a coarse re-alignment always uses them all). On
+  /// the ground the 20 points per sector of neighbouring rings crowd together: on a VLP-16
+  /// greenhouse sweep 0.15 m keeps 1078 of 1582 and 0.2 m 969, and matching was half of the
+  /// sweep's time (bench_odometry about 3.0 ms instead of 3.7). Off by default: greenhouse
+  /// frames 0-599 (IMU + wheels) RPE 0.34 cm / 0.033 deg with 0 or 0.1, 0.39 / 0.035 with 0.15,
+  /// 0.40 / 0.037 with 0.2, and the follow loop's closed runs on odometry poses are fragile to
+  /// it: 0.2 took the crossing run's boundary Hausdorff to 0.42 m (bound 0.30), 0.15 left the
+  /// occlusion run never resuming.
+  double match_plane_spacing_m = 0.0;
   double match_edge_spacing_m = 0.0;  ///< the same for the selected edge points
 };
 

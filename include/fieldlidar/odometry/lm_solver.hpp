@@ -2,7 +2,6 @@
 /// \file seed 002, step d: the 6-DoF transform that minimises edge-to-line and point-to-plane
 /// distances, by a compact Levenberg-Marquardt with robust weights.
 
-#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -50,8 +49,6 @@ struct LmResult {
   Pose T_world_lidar = Pose::Identity();
   int iterations = 0;
   bool converged = false;
-  /// Length of the last step taken (m and rad together); infinite when none was taken.
-  double last_step = std::numeric_limits<double>::infinity();
   double rms_residual_m = 0.0;
   Eigen::Matrix<double, 6, 1> eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();  ///< ascending,
                                                                                   ///< / count
