@@ -62,13 +62,18 @@ inline void run_sequence(benchmark::State& state, const SensorModel& sensor,
   }
   odometry::LidarOdometry warm(sensor, cfg);
   for (std::size_t i = 0; i + 1 < frames.size(); ++i) warm.register_frame(frames[i]);
+  odometry::OdometryResult last;
   for (auto _ : state) {
     state.PauseTiming();
     odometry::LidarOdometry odo = warm;
     state.ResumeTiming();
-    benchmark::DoNotOptimize(odo.register_frame(frames.back()));
+    last = odo.register_frame(frames.back());
+    benchmark::DoNotOptimize(last);
   }
   state.counters["points"] = double(frames.back().size());
+  state.counters["features"] = double(last.edge_features + last.plane_features);
+  state.counters["lm_steps"] = double(last.iterations);
+  state.counters["matches"] = double(last.inliers);
 }
 
 }  // namespace fieldlidar::bench

@@ -79,15 +79,26 @@ OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
   t = Clock::now();
   const Features features =
       extract_features(swept, pre.rings, pre.allowed, pre.ground, config_.features);
-  result.edge_features = features.edges.size();
-  result.plane_features = features.planes.size();
+  // The features matched: the selected ones, thinned by spacing (LOAM's mapping stage).
+  Features thinned;
+  const double edge_spacing = config_.features.match_edge_spacing_m;
+  const double plane_spacing = config_.features.match_plane_spacing_m;
+  if (edge_spacing > 0 || plane_spacing > 0) {
+    thinned.edges = features.edges;
+    thinned.planes = features.planes;
+    thin_by_spacing(thinned.edges, edge_spacing);
+    thin_by_spacing(thinned.planes, plane_spacing);
+  }
+  const Features& matched = edge_spacing > 0 || plane_spacing > 0 ? thinned : features;
+  result.edge_features = matched.edges.size();
+  result.plane_features = matched.planes.size();
   result.timings.features_ms = ms_since(t);
 
   // d. match against the local map (or the previous sweep) by Levenberg-Marquardt.
   t = Clock::now();
   const Pose prior_ref = prior.T_world_lidar * T_start_ref;
   result.T_world_lidar = prior_ref;
-  if (!map_.empty()) register_features(features, prior_ref, result);
+  if (!map_.empty()) register_features(matched, features, prior_ref, result);
   result.timings.match_ms = ms_since(t);
 
   // e. into the world frame: the map grows.
@@ -115,20 +126,31 @@ OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
   return result;
 }
 
-void LidarOdometry::register_features(const Features& features, const Pose& prior,
-                                      OdometryResult& result) {
+void LidarOdometry::register_features(const Features& matched, const Features& all,
+                                      const Pose& prior, OdometryResult& result) {
+  const OdometryResult before = result;
   Pose T = prior;
-  const std::size_t n = features.edges.size() + features.planes.size();
   double first_fraction = 1.0;
-  bool ok = match_rounds(map_, features, T, result, &first_fraction);
+  bool ok = match_rounds(map_, matched, T, result, &first_fraction);
   result.prior_match_fraction = first_fraction;
   // A prior far off (a fast turn, skipped frames, a rough start in a saved map): few features
   // find a line or plane near them. Align on a coarse copy of the map first, then again.
   double used_fraction = first_fraction;
   const bool unusual = typical_match_fraction_ < 0 ||
                        first_fraction < config_.coarse_below_typical * typical_match_fraction_;
+  const std::size_t n = all.edges.size() + all.planes.size();
   if (config_.coarse_voxel_m > 0 && first_fraction < config_.coarse_below_fraction && unusual &&
       n > 0) {
+    // The re-alignment takes every selected feature: the thinned ones alone missed the largest
+    // turns of the simulated handheld sweep, whose dense ground pulls the coarse alignment in.
+    // The gain is counted against the fraction of them all at the prior; without one, the
+    // thinned features' pose stands.
+    double all_fraction = first_fraction;
+    if (&matched != &all) {
+      Pose Ta = prior;
+      OdometryResult ra = before;
+      match_rounds(map_, all, Ta, ra, &all_fraction);
+    }
     LocalMapConfig cc = config_.map;
     cc.voxel_m = config_.coarse_voxel_m;
     cc.max_neighbour_distance_m = 0.5 * config_.coarse_voxel_m;
@@ -138,16 +160,18 @@ void LidarOdometry::register_features(const Features& features, const Pose& prio
     const LocalMap coarse = LocalMap::from_cloud(map_.to_cloud(), cc);
     Pose Tc = prior;
     OdometryResult scratch;  // the coarse alignment's diagnostics are not the frame's
-    if (match_rounds(coarse, features, Tc, scratch, nullptr)) {
+    if (match_rounds(coarse, all, Tc, scratch, nullptr)) {
       Pose Tf = Tc;
       double fraction = 0;
       OdometryResult retry = result;
-      if (match_rounds(map_, features, Tf, retry, &fraction) &&
-          fraction > first_fraction + config_.coarse_min_gain) {
+      if (match_rounds(map_, all, Tf, retry, &fraction) &&
+          fraction > all_fraction + config_.coarse_min_gain) {
         retry.warnings.push_back(fmt::format(
             "prior {:.2f} m / {:.1f} deg off: re-aligned on the coarse map",
             (Tf.translation() - prior.translation()).norm(),
             Eigen::AngleAxisd(Tf.linear() * prior.linear().transpose()).angle() * 180 / M_PI));
+        retry.edge_features = all.edges.size();
+        retry.plane_features = all.planes.size();
         result = std::move(retry);
         result.prior_match_fraction = first_fraction;
         result.coarse_realigned = true;

@@ -79,20 +79,31 @@ void VoxelMap::clear() {
 
 void VoxelMap::insert(std::span<const Eigen::Vector3f> points_world) {
   const float min2 = float(config_.min_point_spacing_m * config_.min_point_spacing_m);
+  // Points come along scan lines: most fall in the voxel of the one before (no look-up then).
+  Key last{0, 0, 0};
+  std::int32_t last_cell = -1;
   for (const auto& p : points_world) {
     if (!p.allFinite()) continue;
-    const auto c = std::size_t(find_or_add(key_of(p)));
+    const Key key = key_of(p);
+    if (last_cell < 0 || !(key == last)) {
+      last = key;
+      last_cell = find_or_add(key);
+    }
+    const auto c = std::size_t(last_cell);
     auto& cell = cells_[c];
     const std::uint32_t count = cell.count;
     if (count >= capacity_) continue;
     float* x = coordinates_of(c);
     float *y = x + stride_, *z = y + stride_;
+    // Four held points at a time; the lanes past `count` do not count.
     bool near = false;
-    for (std::uint32_t j = 0; j < count; ++j)
-      if ((Eigen::Vector3f(x[j], y[j], z[j]) - p).squaredNorm() < min2) {
-        near = true;
-        break;
-      }
+    for (std::uint32_t j0 = 0; j0 < count && !near; j0 += 4) {
+      const Eigen::Array4f dx = Eigen::Array4f::Map(x + j0) - p.x();
+      const Eigen::Array4f dy = Eigen::Array4f::Map(y + j0) - p.y();
+      const Eigen::Array4f dz = Eigen::Array4f::Map(z + j0) - p.z();
+      const Eigen::Array4f d2s = (dx * dx + dy * dy) + dz * dz;
+      near = ((d2s < min2) && (Eigen::Array4f(0.f, 1.f, 2.f, 3.f) < float(count - j0))).any();
+    }
     if (near) continue;
     cell.min = count == 0 ? p : Eigen::Vector3f(cell.min.cwiseMin(p));
     cell.max = count == 0 ? p : Eigen::Vector3f(cell.max.cwiseMax(p));
@@ -129,7 +140,7 @@ std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
                               std::vector<Eigen::Vector3f>& out) const {
   // The k nearest among the 8 voxels nearest the query, by insertion into a short sorted list.
   // The voxels are visited nearest box first; once k points are found, a voxel whose box is
-  // farther than the k-th of them cannot hold a nearer point, nor can the ones after it.
+  // farther than the k-th of them cannot hold a nearer point and is passed over.
   const int k = std::clamp(config_.neighbours, 1, 16);
   const float max2 = float(config_.max_neighbour_distance_m * config_.max_neighbour_distance_m);
   // The best so far, nearest first: squared distances and where the points are.
@@ -148,13 +159,21 @@ std::size_t VoxelMap::nearest(const Eigen::Vector3f& query,
     const float d = (f[a] < 0.5f ? f[a] : 1.f - f[a]) * side;
     face2[a] = d * d;
   }
-  std::array<std::pair<float, int>, 8> order;  // (box distance^2, offset bits x|y|z)
-  for (int b = 0; b < 8; ++b)
-    order[b] = {
-        ((b & 4) ? face2[0] : 0.f) + ((b & 2) ? face2[1] : 0.f) + ((b & 1) ? face2[2] : 0.f), b};
-  std::sort(order.begin(), order.end());
-  for (const auto& [box2, b] : order) {
-    if (box2 > max2 || (n == k && box2 >= best_d2[k - 1])) break;
+  // The 8 voxels nearest box first, without a sort: with the faces' squared distances a <= b <=
+  // c, the boxes' are 0 <= a <= b <= min(a + b, c) <= max(a + b, c) <= a + c <= b + c <= a + b + c.
+  int ax[3] = {0, 1, 2};
+  if (face2[ax[1]] < face2[ax[0]]) std::swap(ax[0], ax[1]);
+  if (face2[ax[2]] < face2[ax[1]]) std::swap(ax[1], ax[2]);
+  if (face2[ax[1]] < face2[ax[0]]) std::swap(ax[0], ax[1]);
+  const int A = 4 >> ax[0], B = 4 >> ax[1], C = 4 >> ax[2];  // offset bits x|y|z
+  const bool ab_first = face2[ax[0]] + face2[ax[1]] <= face2[ax[2]];
+  const std::array<int, 8> order = {
+      0, A, B, ab_first ? A | B : C, ab_first ? C : A | B, A | C, B | C, A | B | C};
+  for (const int b : order) {
+    // Each box's distance summed in one fixed order, so the bound tests below hold exactly.
+    const float box2 =
+        ((b & 4) ? face2[0] : 0.f) + ((b & 2) ? face2[1] : 0.f) + ((b & 1) ? face2[2] : 0.f);
+    if (box2 > max2 || (n == k && box2 >= best_d2[k - 1])) continue;
     const std::int32_t cell =
         find({c.x + ((b & 4) ? s[0] : 0), c.y + ((b & 2) ? s[1] : 0), c.z + ((b & 1) ? s[2] : 0)});
     if (cell < 0) continue;

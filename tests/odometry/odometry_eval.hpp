@@ -166,6 +166,8 @@ inline void apply_env(OdometryConfig& c) {
   integer("NEDGE", c.features.edges_per_sector);
   integer("NPLANE", c.features.planes_per_sector);
   integer("STRIDE", c.features.map_plane_stride);
+  num("PLANETHIN", c.features.match_plane_spacing_m);
+  num("EDGETHIN", c.features.match_edge_spacing_m);
   num("ROBUST", c.lm.robust_scale_m);
   num("DEGEN", c.lm.degenerate_ratio);
   integer("NEIGH", c.map.neighbours);

@@ -111,7 +111,9 @@ class LidarOdometry {
     bool sweep_from_velocity = false;  ///< `sweep` is the last motion carried on
   };
   Prior predict(double stamp_s, std::vector<std::string>& warnings);
-  void register_features(const Features& features, const Pose& prior, OdometryResult& result);
+  /// `matched` at the prior, and `all` (the unthinned selection) for a coarse re-alignment.
+  void register_features(const Features& matched, const Features& all, const Pose& prior,
+                         OdometryResult& result);
   /// Rounds of (correspondences, LM) against `map` from T; false when too few matches.
   bool match_rounds(const LocalMap& map, const Features& features, Pose& T, OdometryResult& result,
                     double* first_fraction) const;
