@@ -25,20 +25,19 @@ LegPipeline2D::LegPipeline2D(LegPipeline2DConfig config)
       sensor_occupancy_(config_.occupancy),
       legs_(config_.leg_tracker),
       persons_(config_.person_tracker),
-      persons_joint_(config_.joint) {}
+      persons_joint_(config_.joint) {
+  // The occupied-space rule's margins left unset (NaN) are the classifier's own.
+  if (const auto& c = config_.detector.classifier) {
+    if (std::isnan(config_.occupied_leg_score_min))
+      config_.occupied_leg_score_min = c->occupied_score_min;
+    if (std::isnan(config_.occupied_leg_evidence_min))
+      config_.occupied_leg_evidence_min = c->occupied_evidence_min;
+  }
+}
 
 LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen::Vector2d> points,
                                            const std::optional<Eigen::Isometry2d>& pose) {
   const auto& dc = config_.detector;
-  // The occupied-space rule's margins: the config's, else the classifier's own (NaN: unset).
-  const auto margin = [&](double configured, double of_classifier) {
-    return std::isnan(configured) ? of_classifier : configured;
-  };
-  const double occupied_score_min =
-      dc.classifier ? margin(config_.occupied_leg_score_min, dc.classifier->occupied_score_min) : 0;
-  const double occupied_evidence_min = dc.classifier ? margin(config_.occupied_leg_evidence_min,
-                                                              dc.classifier->occupied_evidence_min)
-                                                     : 0;
   LegPipeline2DOutput out;
   // 1. Ego-motion.
   if (pose) {
@@ -113,8 +112,9 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       // On occupied space (returns there scan after scan, from before or since the leg was
       // seen) only a leg the classifier is sure of, or whose track has gathered leg evidence,
       // is reported: there, most leg-shaped segments are furniture.
-      const bool doubtful = dc.classifier && occupied && score[i] < occupied_score_min &&
-                            prior < occupied_evidence_min;
+      const bool doubtful = dc.classifier && occupied &&
+                            score[i] < config_.occupied_leg_score_min &&
+                            prior < config_.occupied_leg_evidence_min;
       if (!dc.classifier || score[i] > config_.leg_report_margin ||
           prior > config_.leg_report_evidence) {
         per_scan_legs.push_back(cand[i]);

@@ -98,7 +98,8 @@ struct LegPipeline2DConfig {
   /// `occupied_leg_score_min` or its track's evidence before this scan reaches
   /// `occupied_leg_evidence_min` (-inf / -inf: no such rule; NaN, the default: the margins the
   /// classifier file carries, LegClassifier::occupied_score_min, since the score margin is in
-  /// that classifier's units; the shipped classifier carries 3 / 7, one from legs-train none).
+  /// that classifier's units; the shipped classifier carries 3 / 7, one from legs-train none;
+  /// LegPipeline2D::config() gives the margins in effect).
   /// On negative_2.bag 85 % of the
   /// reported legs lie on occupied space (chair and table legs, wall ends), against 14 % of the
   /// annotated legs of positive_1..4 (people standing, or passing where someone stood); there
