@@ -158,11 +158,10 @@ class CellBlock {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const std::size_t k = std::size_t(y) * w + x;
-        // One lookup per tile row segment: the next cells of the same tile follow in memory.
-        if (x > 0 && cells_[k - 1] && CellStore::same_tile(lo.x() + x - 1, lo.x() + x))
-          cells_[k] = cells_[k - 1] + 1;
-        else if (x > 0 && !cells_[k - 1] && CellStore::same_tile(lo.x() + x - 1, lo.x() + x))
-          cells_[k] = nullptr;
+        // One lookup per tile row segment: the next cells of the same tile follow in memory
+        // (and a tile not made yet holds none of them).
+        if (x > 0 && CellStore::same_tile(lo.x() + x - 1, lo.x() + x))
+          cells_[k] = cells_[k - 1] ? cells_[k - 1] + 1 : nullptr;
         else
           cells_[k] = store.find(lo.x() + x, lo.y() + y);
       }

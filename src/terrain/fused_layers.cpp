@@ -24,6 +24,16 @@ Eigen::Vector3d plane_normal(const PlaneSums& sums) {
   return n.z() < 0 ? Eigen::Vector3d(-n) : n;
 }
 
+/// The normal of the cell's own ground returns, computed once until they change (a cell is
+/// derived again whenever a neighbour in its window changes, its own plane mostly not).
+const Eigen::Vector3d& own_normal(FusedCell& cell) {
+  if (!cell.own_normal_fresh) {
+    cell.own_normal = plane_normal(cell.ground);
+    cell.own_normal_fresh = true;
+  }
+  return cell.own_normal;
+}
+
 double slope_deg(const Eigen::Vector3d& normal) {
   return std::acos(std::clamp(normal.z(), -1.0, 1.0)) / kDeg;
 }
@@ -71,13 +81,7 @@ double clear_ground_slope_deg(const CellBlock& store, int ix, int iy, int half,
         FusedCell* q = store.find(ix + dx, iy + dy);
         if (!q || q->ground.n < config.min_ground_points) continue;
         if (skip_obstacles && (q->log_odds > 0.0f || q->bump)) continue;
-        if (q->ground.n >= c.min_voxel_points) {
-          if (!q->own_normal_fresh) {  // the same plane derive_cell caches for q's own slope
-            q->own_normal = plane_normal(q->ground);
-            q->own_normal_fresh = true;
-          }
-          if (q->own_normal.z() < min_nz) continue;
-        }
+        if (q->ground.n >= c.min_voxel_points && own_normal(*q).z() < min_nz) continue;
         sums.add_shifted(q->ground, offset(c.cell_m, dx, dy, cell.z_ref, q->z_ref));
       }
     if (sums.n >= c.min_voxel_points) return slope_deg(plane_normal(sums));
@@ -184,11 +188,7 @@ void derive_cell(const CellBlock& store, int ix, int iy, int half, const FusionC
   const Eigen::Vector3d centroid = window.mean();
   const Eigen::Vector3d window_normal = plane_normal(window);
   const bool own_plane = cell->ground.n >= config.min_own_plane_points;
-  if (own_plane && !cell->own_normal_fresh) {
-    cell->own_normal = plane_normal(cell->ground);
-    cell->own_normal_fresh = true;
-  }
-  const Eigen::Vector3d normal = own_plane ? cell->own_normal : window_normal;
+  const Eigen::Vector3d normal = own_plane ? own_normal(*cell) : window_normal;
   const double rho = slope_deg(normal);
   const bool too_steep =
       std::max({rho, slope_deg(window_normal), edge_slope_deg(store, ix, iy, config)}) >
