@@ -128,7 +128,6 @@ OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
 
 void LidarOdometry::register_features(const Features& matched, const Features& all,
                                       const Pose& prior, OdometryResult& result) {
-  const OdometryResult before = result;
   Pose T = prior;
   double first_fraction = 1.0;
   bool ok = match_rounds(map_, matched, T, result, &first_fraction);
@@ -148,8 +147,8 @@ void LidarOdometry::register_features(const Features& matched, const Features& a
     double all_fraction = first_fraction;
     if (&matched != &all) {
       Pose Ta = prior;
-      OdometryResult ra = before;
-      match_rounds(map_, all, Ta, ra, &all_fraction);
+      OdometryResult scratch;  // only the fraction at the prior is wanted
+      match_rounds(map_, all, Ta, scratch, &all_fraction);
     }
     LocalMapConfig cc = config_.map;
     cc.voxel_m = config_.coarse_voxel_m;
