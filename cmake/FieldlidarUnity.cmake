@@ -14,11 +14,9 @@
 option(FIELDLIDAR_UNITY "Unity build of the module libraries and the CLI (sanitizer stage)" OFF)
 set(FIELDLIDAR_UNITY_BATCH_SIZE 8 CACHE STRING "Source files per unity translation unit")
 
-# Paths relative to the source tree.
-set(FIELDLIDAR_UNITY_SEPARATE
-  src/io/pcd.cpp src/io/pcd_header.cpp src/io/ply.cpp  # fail(), as in las.cpp
-  src/sim/scene_lawn.cpp src/sim/scene_terrain.cpp     # kPi, as in scene_forest.cpp
-  src/odometry/lm_solver.cpp)                          # skew(), as in ceres_solver.cpp
+# Paths relative to the source tree (none today: shared helpers live in a module's internal
+# header, file-local ones carry the file's name, e.g. ply_fail / las_fail).
+set(FIELDLIDAR_UNITY_SEPARATE)
 
 # fieldlidar_unity(TARGET): a unity build of TARGET when FIELDLIDAR_UNITY is on. Called from the
 # directory that defines TARGET (source file properties are per directory).

@@ -35,7 +35,7 @@ std::string get_string(std::span<const std::byte> b, std::size_t at, std::size_t
   return s;
 }
 
-[[noreturn]] void fail(const std::string& source, const std::string& what) {
+[[noreturn]] void las_fail(const std::string& source, const std::string& what) {
   throw Error(source + ": LAS " + what);
 }
 
@@ -68,21 +68,21 @@ Eigen::Vector3d las_local_origin(const LasHeader& header) {
 LasHeader parse_las_header(std::span<const std::byte> b, std::uint64_t file_size,
                            const std::string& source) {
   if (b.size() < 4 || std::memcmp(b.data(), "LASF", 4) != 0)
-    fail(source, "file signature is not 'LASF' (not a LAS file)");
+    las_fail(source, "file signature is not 'LASF' (not a LAS file)");
   if (b.size() < kHeaderSize12)
-    fail(source, "header truncated: " + std::to_string(b.size()) + " bytes, need at least " +
-                     std::to_string(kHeaderSize12));
+    las_fail(source, "header truncated: " + std::to_string(b.size()) + " bytes, need at least " +
+                         std::to_string(kHeaderSize12));
   LasHeader h;
   const auto format_id = get<std::uint8_t>(b, 104);
   // LAZ files set bit 7 (and some writers bit 6) of the point format id.
   h.compressed = (format_id & 0xC0u) != 0;
-  if (h.compressed) fail(source, kLazMessage);
+  if (h.compressed) las_fail(source, kLazMessage);
   h.global_encoding = get<std::uint16_t>(b, 6);
   h.version_major = get<std::uint8_t>(b, 24);
   h.version_minor = get<std::uint8_t>(b, 25);
   if (h.version_major != 1 || h.version_minor > 4)
-    fail(source, "version " + std::to_string(h.version_major) + "." +
-                     std::to_string(h.version_minor) + " is not supported (1.0-1.4)");
+    las_fail(source, "version " + std::to_string(h.version_major) + "." +
+                         std::to_string(h.version_minor) + " is not supported (1.0-1.4)");
   h.system_identifier = get_string(b, 26, 32);
   h.generating_software = get_string(b, 58, 32);
   h.header_size = get<std::uint16_t>(b, 94);
@@ -94,24 +94,24 @@ LasHeader parse_las_header(std::span<const std::byte> b, std::uint64_t file_size
                            : h.version_minor == 3 ? kHeaderSize13
                                                   : kHeaderSize12;
   if (h.header_size < need)
-    fail(source, "header size field " + std::to_string(h.header_size) + " is below the " +
-                     std::to_string(need) + " bytes of version 1." +
-                     std::to_string(h.version_minor));
+    las_fail(source, "header size field " + std::to_string(h.header_size) + " is below the " +
+                         std::to_string(need) + " bytes of version 1." +
+                         std::to_string(h.version_minor));
   if (b.size() < need || h.header_size > file_size)
-    fail(source, "header truncated: file has " + std::to_string(file_size) + " bytes, header " +
-                     std::to_string(h.header_size));
+    las_fail(source, "header truncated: file has " + std::to_string(file_size) + " bytes, header " +
+                         std::to_string(h.header_size));
   if (h.point_format > 10)
-    fail(source,
-         "point data record format " + std::to_string(h.point_format) + " is not supported (0-10)");
+    las_fail(source, "point data record format " + std::to_string(h.point_format) +
+                         " is not supported (0-10)");
   const std::size_t min_record = las_point_size(h.point_format);
   if (h.point_record_length < min_record)
-    fail(source, "point record length " + std::to_string(h.point_record_length) +
-                     " is shorter than the " + std::to_string(min_record) +
-                     " bytes of point format " + std::to_string(h.point_format));
+    las_fail(source, "point record length " + std::to_string(h.point_record_length) +
+                         " is shorter than the " + std::to_string(min_record) +
+                         " bytes of point format " + std::to_string(h.point_format));
   if (h.offset_to_point_data < h.header_size || h.offset_to_point_data > file_size)
-    fail(source, "offset to point data " + std::to_string(h.offset_to_point_data) +
-                     " is outside the file (header " + std::to_string(h.header_size) +
-                     " bytes, file " + std::to_string(file_size) + " bytes)");
+    las_fail(source, "offset to point data " + std::to_string(h.offset_to_point_data) +
+                         " is outside the file (header " + std::to_string(h.header_size) +
+                         " bytes, file " + std::to_string(file_size) + " bytes)");
 
   h.point_count = get<std::uint32_t>(b, 107);
   for (int r = 0; r < 5; ++r) h.points_by_return[r] = get<std::uint32_t>(b, 111 + 4 * r);
@@ -133,20 +133,21 @@ LasHeader parse_las_header(std::span<const std::byte> b, std::uint64_t file_size
   static const char* kAxis[] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
     if (!std::isfinite(h.scale[a]) || h.scale[a] == 0.0)
-      fail(source, std::string(kAxis[a]) + " scale factor " + std::to_string(h.scale[a]) +
-                       " is zero or not finite");
-    if (!std::isfinite(h.offset[a])) fail(source, std::string(kAxis[a]) + " offset is not finite");
+      las_fail(source, std::string(kAxis[a]) + " scale factor " + std::to_string(h.scale[a]) +
+                           " is zero or not finite");
+    if (!std::isfinite(h.offset[a]))
+      las_fail(source, std::string(kAxis[a]) + " offset is not finite");
   }
   const std::uint64_t available = file_size - h.offset_to_point_data;
   if (h.point_count > available / h.point_record_length)
-    fail(source, "truncated: header says " + std::to_string(h.point_count) + " points of " +
-                     std::to_string(h.point_record_length) + " bytes but only " +
-                     std::to_string(available) + " bytes follow the header");
+    las_fail(source, "truncated: header says " + std::to_string(h.point_count) + " points of " +
+                         std::to_string(h.point_record_length) + " bytes but only " +
+                         std::to_string(available) + " bytes follow the header");
   return h;
 }
 
 LasHeader read_las_header(const std::filesystem::path& path) {
-  if (extension_of(path) == "laz") fail(path.string(), kLazMessage);
+  if (extension_of(path) == "laz") las_fail(path.string(), kLazMessage);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw Error(path.string() + ": no such file");
   const auto file_size = std::filesystem::file_size(path, ec);
@@ -204,7 +205,7 @@ LasCloud parse_las(std::span<const std::byte> bytes, const std::string& source) 
       double t;
       std::memcpy(&t, rec + gps_at, sizeof(t));
       if (!std::isfinite(t))
-        fail(source, "point " + std::to_string(i) + " has a NaN or infinite GPS time");
+        las_fail(source, "point " + std::to_string(i) + " has a NaN or infinite GPS time");
       gps[i] = t;
       gps_min = std::min(gps_min, t);
     }
@@ -217,7 +218,7 @@ LasCloud parse_las(std::span<const std::byte> bytes, const std::string& source) 
 }
 
 LasCloud read_las(const std::filesystem::path& path) {
-  if (extension_of(path) == "laz") fail(path.string(), kLazMessage);
+  if (extension_of(path) == "laz") las_fail(path.string(), kLazMessage);
   const auto bytes = read_file_bytes(path);
   return parse_las(bytes, path.string());
 }

@@ -31,10 +31,6 @@ namespace {
 using Field = pcl::PCLPointField;
 using detail::PcdHeader;
 
-[[noreturn]] void fail(const std::string& source, const std::string& what) {
-  detail::pcd_fail(source, what);
-}
-
 std::uint32_t get_u32(std::span<const std::byte> b, std::size_t at) {
   std::uint32_t v;
   std::memcpy(&v, b.data() + at, 4);
@@ -58,10 +54,12 @@ void parse_ascii_body(std::span<const std::byte> bytes, const PcdHeader& h,
     const auto tok = detail::split_tokens(line);
     if (tok.empty()) continue;
     if (idx >= h.points)
-      fail(source, "has more than the " + std::to_string(h.points) + " points of its header");
+      detail::pcd_fail(source,
+                       "has more than the " + std::to_string(h.points) + " points of its header");
     if (tok.size() != elems)
-      fail(source, "data line " + std::to_string(line_no) + " has " + std::to_string(tok.size()) +
-                       " values, expected " + std::to_string(elems));
+      detail::pcd_fail(source, "data line " + std::to_string(line_no) + " has " +
+                                   std::to_string(tok.size()) + " values, expected " +
+                                   std::to_string(elems));
     std::uint8_t* out = blob.data.data() + idx * blob.point_step;
     std::size_t t = 0;
     for (std::size_t f = 0; f < h.names.size(); ++f) {
@@ -71,8 +69,8 @@ void parse_ascii_body(std::span<const std::byte> bytes, const PcdHeader& h,
         if (!s.empty() && s[0] == '+') s.remove_prefix(1);
         const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
         if (ec != std::errc() || ptr != s.data() + s.size())
-          fail(source, "data line " + std::to_string(line_no) + ": '" + std::string(tok[t]) +
-                           "' is not a number");
+          detail::pcd_fail(source, "data line " + std::to_string(line_no) + ": '" +
+                                       std::string(tok[t]) + "' is not a number");
         const auto type = detail::pcd_pcl_type(h.types[f], h.sizes[f]);
         auto put = [&](auto typed) {
           using T = decltype(typed);
@@ -123,8 +121,8 @@ void parse_ascii_body(std::span<const std::byte> bytes, const PcdHeader& h,
     ++idx;
   }
   if (idx != h.points)
-    fail(source, "truncated: " + std::to_string(idx) + " data lines for " +
-                     std::to_string(h.points) + " points");
+    detail::pcd_fail(source, "truncated: " + std::to_string(idx) + " data lines for " +
+                                 std::to_string(h.points) + " points");
 }
 
 /// A read-only memory map of a whole file: the body is decoded straight from the page cache
@@ -174,26 +172,30 @@ PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source
   // Bounds by division first, so that no product of header numbers can wrap around.
   const std::uint64_t available = bytes.size() - h.data_offset;
   if (h.data_type == 1 && h.points > available / h.point_step)
-    fail(source, "truncated: " + std::to_string(h.points) + " points of " +
-                     std::to_string(h.point_step) + " bytes do not fit in the " +
-                     std::to_string(available) + " bytes that follow the header");
+    detail::pcd_fail(source, "truncated: " + std::to_string(h.points) + " points of " +
+                                 std::to_string(h.point_step) + " bytes do not fit in the " +
+                                 std::to_string(available) + " bytes that follow the header");
   if (h.data_type == 0 && h.points > available)
-    fail(source, "truncated: " + std::to_string(h.points) + " points cannot fit in the " +
-                     std::to_string(available) + " bytes of ascii data");
+    detail::pcd_fail(source, "truncated: " + std::to_string(h.points) +
+                                 " points cannot fit in the " + std::to_string(available) +
+                                 " bytes of ascii data");
   if (h.data_type == 2 && h.points > UINT32_MAX / h.point_step)
-    fail(source, std::to_string(h.points) + " points of " + std::to_string(h.point_step) +
-                     " bytes exceed the 4 GiB a binary_compressed body can hold");
+    detail::pcd_fail(source, std::to_string(h.points) + " points of " +
+                                 std::to_string(h.point_step) +
+                                 " bytes exceed the 4 GiB a binary_compressed body can hold");
   const std::uint64_t data_bytes = h.points * h.point_step;
   if (h.data_type == 2 && h.points > 0) {
-    if (available < 8) fail(source, "truncated: binary_compressed data has no size words");
+    if (available < 8)
+      detail::pcd_fail(source, "truncated: binary_compressed data has no size words");
     const std::uint32_t compressed = get_u32(bytes, h.data_offset);
     const std::uint32_t uncompressed = get_u32(bytes, h.data_offset + 4);
     if (uncompressed != data_bytes)
-      fail(source, "binary_compressed data says " + std::to_string(uncompressed) +
-                       " bytes uncompressed, the header needs " + std::to_string(data_bytes));
+      detail::pcd_fail(source, "binary_compressed data says " + std::to_string(uncompressed) +
+                                   " bytes uncompressed, the header needs " +
+                                   std::to_string(data_bytes));
     if (compressed > available - 8)
-      fail(source, "truncated: compressed data of " + std::to_string(compressed) + " bytes, only " +
-                       std::to_string(available - 8) + " follow");
+      detail::pcd_fail(source, "truncated: compressed data of " + std::to_string(compressed) +
+                                   " bytes, only " + std::to_string(available - 8) + " follow");
   }
 
   const auto width = static_cast<std::uint32_t>(h.width);
@@ -231,8 +233,9 @@ PointCloud parse_pcd(std::span<const std::byte> bytes, const std::string& source
     const unsigned got = pcl::lzfDecompress(body + 8, get_u32(bytes, h.data_offset), planes.get(),
                                             static_cast<unsigned>(data_bytes));
     if (got != data_bytes)
-      fail(source, "corrupt binary_compressed data (LZF decoded " + std::to_string(got) + " of " +
-                       std::to_string(data_bytes) + " bytes)");
+      detail::pcd_fail(source, "corrupt binary_compressed data (LZF decoded " +
+                                   std::to_string(got) + " of " + std::to_string(data_bytes) +
+                                   " bytes)");
   }
   std::vector<detail::FieldView> views;
   std::uint64_t offset = 0;

@@ -16,10 +16,6 @@ namespace {
 
 using Field = pcl::PCLPointField;
 
-[[noreturn]] void fail(const std::string& source, const std::string& what) {
-  pcd_fail(source, what);
-}
-
 // Bounds that no real scan reaches; they keep a corrupt header from asking for absurd memory.
 constexpr std::size_t kMaxHeaderBytes = 1 << 16;
 constexpr std::uint64_t kMaxPointStep = 1 << 16;
@@ -28,8 +24,8 @@ std::uint64_t to_uint(std::string_view s, const std::string& source, std::string
   std::uint64_t v = 0;
   const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec != std::errc() || ptr != s.data() + s.size())
-    fail(source, "header: " + std::string(what) + " value '" + std::string(s) +
-                     "' is not a non-negative integer");
+    pcd_fail(source, "header: " + std::string(what) + " value '" + std::string(s) +
+                         "' is not a non-negative integer");
   return v;
 }
 
@@ -76,15 +72,16 @@ std::uint8_t pcd_pcl_type(char type, unsigned size) {
 PcdHeader parse_pcd_header(std::span<const std::byte> bytes, const std::string& source) {
   const std::string_view text(reinterpret_cast<const char*>(bytes.data()),
                               std::min(bytes.size(), kMaxHeaderBytes));
-  if (bytes.empty()) fail(source, "file is empty");
+  if (bytes.empty()) pcd_fail(source, "file is empty");
   PcdHeader h;
   std::size_t pos = 0;
   bool seen_fields = false;
   while (h.data_type < 0) {
-    if (pos >= text.size()) fail(source, "header has no DATA line (truncated, or not a PCD file)");
+    if (pos >= text.size())
+      pcd_fail(source, "header has no DATA line (truncated, or not a PCD file)");
     const auto eol = text.find('\n', pos);
     if (eol == std::string_view::npos)
-      fail(source, "header has no DATA line (truncated, or not a PCD file)");
+      pcd_fail(source, "header has no DATA line (truncated, or not a PCD file)");
     const auto line = text.substr(pos, eol - pos);
     pos = eol + 1;
     const auto tok = detail::split_tokens(line);
@@ -92,15 +89,15 @@ PcdHeader parse_pcd_header(std::span<const std::byte> bytes, const std::string& 
     const std::string_view key = tok[0];
     const std::size_t nvals = tok.size() - 1;
     auto need_fields = [&] {
-      if (!seen_fields) fail(source, "header: " + std::string(key) + " before FIELDS");
+      if (!seen_fields) pcd_fail(source, "header: " + std::string(key) + " before FIELDS");
       if (nvals != h.names.size())
-        fail(source, "header: " + std::string(key) + " has " + std::to_string(nvals) +
-                         " entries for " + std::to_string(h.names.size()) + " fields");
+        pcd_fail(source, "header: " + std::string(key) + " has " + std::to_string(nvals) +
+                             " entries for " + std::to_string(h.names.size()) + " fields");
     };
     if (key == "VERSION") {
       continue;
     } else if (key == "FIELDS" || key == "COLUMNS") {
-      if (nvals == 0) fail(source, "header: FIELDS is empty");
+      if (nvals == 0) pcd_fail(source, "header: FIELDS is empty");
       seen_fields = true;
       h.names.assign(tok.begin() + 1, tok.end());
       h.sizes.assign(nvals, 4);
@@ -114,7 +111,8 @@ PcdHeader parse_pcd_header(std::span<const std::byte> bytes, const std::string& 
     } else if (key == "TYPE") {
       need_fields();
       for (std::size_t i = 0; i < nvals; ++i) {
-        if (tok[i + 1].size() != 1) fail(source, "header: TYPE '" + std::string(tok[i + 1]) + "'");
+        if (tok[i + 1].size() != 1)
+          pcd_fail(source, "header: TYPE '" + std::string(tok[i + 1]) + "'");
         h.types[i] = tok[i + 1][0];
       }
     } else if (key == "COUNT") {
@@ -122,7 +120,7 @@ PcdHeader parse_pcd_header(std::span<const std::byte> bytes, const std::string& 
       for (std::size_t i = 0; i < nvals; ++i) {
         const auto c = to_uint(tok[i + 1], source, key);
         if (c < 1 || c > kMaxPointStep)
-          fail(source, "header: COUNT " + std::to_string(c) + " of field '" + h.names[i] + "'");
+          pcd_fail(source, "header: COUNT " + std::to_string(c) + " of field '" + h.names[i] + "'");
         h.counts[i] = static_cast<unsigned>(c);
       }
     } else if (key == "WIDTH" && nvals == 1) {
@@ -148,29 +146,29 @@ PcdHeader parse_pcd_header(std::span<const std::byte> bytes, const std::string& 
       else if (tok[1] == "binary_compressed")
         h.data_type = 2;
       else
-        fail(source, "header: DATA '" + std::string(tok[1]) +
-                         "' is not ascii, binary or binary_compressed");
+        pcd_fail(source, "header: DATA '" + std::string(tok[1]) +
+                             "' is not ascii, binary or binary_compressed");
       h.data_offset = pos;
     } else {
-      fail(source, "header: unexpected line '" +
-                       std::string(line.substr(0, std::min<std::size_t>(line.size(), 40))) +
-                       "' (not a PCD file?)");
+      pcd_fail(source, "header: unexpected line '" +
+                           std::string(line.substr(0, std::min<std::size_t>(line.size(), 40))) +
+                           "' (not a PCD file?)");
     }
   }
-  if (!seen_fields) fail(source, "header has no FIELDS line");
+  if (!seen_fields) pcd_fail(source, "header has no FIELDS line");
   for (std::size_t i = 0; i < h.names.size(); ++i) {
     if (pcd_pcl_type(h.types[i], h.sizes[i]) == 0)
-      fail(source, "header: field '" + h.names[i] + "' has TYPE " + h.types[i] + " with SIZE " +
-                       std::to_string(h.sizes[i]));
+      pcd_fail(source, "header: field '" + h.names[i] + "' has TYPE " + h.types[i] + " with SIZE " +
+                           std::to_string(h.sizes[i]));
     h.point_step += std::uint64_t(h.sizes[i]) * h.counts[i];
   }
-  if (h.point_step > kMaxPointStep) fail(source, "header: point size is absurdly large");
+  if (h.point_step > kMaxPointStep) pcd_fail(source, "header: point size is absurdly large");
   if (!h.has_height) h.height = 1;
   if (!h.has_width) h.width = h.height ? h.points / h.height : 0;
   if (!h.has_points) h.points = h.width * h.height;
   if (h.width > UINT32_MAX || h.height > UINT32_MAX || h.width * h.height != h.points)
-    fail(source, "header: WIDTH " + std::to_string(h.width) + " x HEIGHT " +
-                     std::to_string(h.height) + " != POINTS " + std::to_string(h.points));
+    pcd_fail(source, "header: WIDTH " + std::to_string(h.width) + " x HEIGHT " +
+                         std::to_string(h.height) + " != POINTS " + std::to_string(h.points));
   return h;
 }
 

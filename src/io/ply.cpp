@@ -23,7 +23,7 @@ constexpr const char* kOriginComment[2] = {"fieldlidar", "origin_m"};
 
 constexpr std::size_t kMaxHeaderBytes = 1 << 16;
 
-[[noreturn]] void fail(const std::string& source, const std::string& what) {
+[[noreturn]] void ply_fail(const std::string& source, const std::string& what) {
   throw Error(source + ": PLY " + what);
 }
 
@@ -63,9 +63,9 @@ std::optional<Eigen::Vector3d> origin_comment(const std::vector<std::string_view
 Eigen::Vector3d check_header(std::string_view text, std::uint64_t file_size,
                              const std::string& source) {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  if (file_size == 0) fail(source, "file is empty");
+  if (file_size == 0) ply_fail(source, "file is empty");
   if (text.substr(0, 4) != "ply\n" && text.substr(0, 5) != "ply\r\n")
-    fail(source, "file does not start with 'ply' (not a PLY file)");
+    ply_fail(source, "file does not start with 'ply' (not a PLY file)");
   std::size_t pos = text.find('\n') + 1;
   int format = -1;  // 0 ascii, 1 binary
   std::vector<PlyElement> elements;
@@ -73,7 +73,7 @@ Eigen::Vector3d check_header(std::string_view text, std::uint64_t file_size,
   bool ended = false;
   while (!ended) {
     const auto eol = text.find('\n', pos);
-    if (eol == std::string_view::npos) fail(source, "header has no end_header (truncated?)");
+    if (eol == std::string_view::npos) ply_fail(source, "header has no end_header (truncated?)");
     std::string_view line = text.substr(pos, eol - pos);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const auto tok = detail::split_tokens(line);
@@ -85,8 +85,8 @@ Eigen::Vector3d check_header(std::string_view text, std::uint64_t file_size,
     for (const auto& t : tok) words += t.size();
     if (line.front() == ' ' || line.front() == '\t' ||
         (tok[0] != "comment" && line.size() != words + tok.size() - 1))
-      fail(source, "header line '" + std::string(line.substr(0, 60)) +
-                       "' is not words separated by single spaces");
+      ply_fail(source, "header line '" + std::string(line.substr(0, 60)) +
+                           "' is not words separated by single spaces");
     const auto key = tok[0];
     if (key == "comment") {
       if (const auto o = origin_comment(tok)) origin = *o;
@@ -99,26 +99,26 @@ Eigen::Vector3d check_header(std::string_view text, std::uint64_t file_size,
         std::uint64_t v = 0;
         const auto [p, ec] = std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), v);
         if (ec != std::errc() || p != tok[2].data() + tok[2].size() || tok.size() != 3)
-          fail(source, "obj_info " + std::string(tok[1]) + " is not a whole number");
+          ply_fail(source, "obj_info " + std::string(tok[1]) + " is not a whole number");
         (tok[1] == "num_cols" ? num_cols : num_rows) = v;
       }
       continue;
     }
     if (key == "format" && tok.size() == 3 && format < 0) {
-      if (tok[2] != "1.0") fail(source, "version '" + std::string(tok[2]) + "' is not 1.0");
+      if (tok[2] != "1.0") ply_fail(source, "version '" + std::string(tok[2]) + "' is not 1.0");
       if (tok[1] == "ascii")
         format = 0;
       else if (tok[1] == "binary_little_endian" || tok[1] == "binary_big_endian")
         format = 1;
       else
-        fail(source, "format '" + std::string(tok[1]) + "' is unknown");
+        ply_fail(source, "format '" + std::string(tok[1]) + "' is unknown");
     } else if (key == "element" && tok.size() == 3) {
       PlyElement e;
       e.name = tok[1];
       const auto [p, ec] = std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), e.count);
       if (ec != std::errc() || p != tok[2].data() + tok[2].size())
-        fail(source,
-             "element '" + e.name + "' count '" + std::string(tok[2]) + "' is not a number");
+        ply_fail(source,
+                 "element '" + e.name + "' count '" + std::string(tok[2]) + "' is not a number");
       elements.push_back(e);
     } else if (key == "property" && !elements.empty()) {
       auto& e = elements.back();
@@ -131,41 +131,42 @@ Eigen::Vector3d check_header(std::string_view text, std::uint64_t file_size,
         e.properties.emplace_back(tok[4]);
         e.has_list = true;
       } else {
-        fail(source, "property line of element '" + e.name + "' is malformed");
+        ply_fail(source, "property line of element '" + e.name + "' is malformed");
       }
     } else if (key == "end_header" && tok.size() == 1) {
       ended = true;
     } else {
-      fail(source, "unexpected header line starting '" + std::string(key) + "'");
+      ply_fail(source, "unexpected header line starting '" + std::string(key) + "'");
     }
   }
-  if (format < 0) fail(source, "header has no format line");
+  if (format < 0) ply_fail(source, "header has no format line");
   const std::uint64_t available = file_size - pos;
   std::uint64_t need = 0;
   bool vertex = false;
   for (const auto& e : elements) {
     if (e.properties.empty() && e.count > 0)
-      fail(source, "element '" + e.name + "' has no properties");
+      ply_fail(source, "element '" + e.name + "' has no properties");
     // ascii: every value takes at least one character and a separator.
     const std::uint64_t item = format == 0 ? 2 * e.properties.size() : e.min_bytes;
     if (e.count > (available - std::min(need, available)) / std::max<std::uint64_t>(item, 1))
-      fail(source, "truncated: element '" + e.name + "' has " + std::to_string(e.count) +
-                       " items but only " + std::to_string(available) + " bytes follow the header");
+      ply_fail(source, "truncated: element '" + e.name + "' has " + std::to_string(e.count) +
+                           " items but only " + std::to_string(available) +
+                           " bytes follow the header");
     need += e.count * item;
     if (e.name == "vertex") {
       vertex = true;
       if ((num_cols || num_rows) &&
           (!num_cols || !num_rows || *num_rows == 0 || *num_cols > e.count / *num_rows ||
            *num_cols * *num_rows != e.count))
-        fail(source, "obj_info num_cols x num_rows does not match the " + std::to_string(e.count) +
-                         " vertices");
-      if (e.has_list) fail(source, "vertex element has a list property (meshes are not read)");
+        ply_fail(source, "obj_info num_cols x num_rows does not match the " +
+                             std::to_string(e.count) + " vertices");
+      if (e.has_list) ply_fail(source, "vertex element has a list property (meshes are not read)");
       for (const char* axis : {"x", "y", "z"})
         if (std::find(e.properties.begin(), e.properties.end(), axis) == e.properties.end())
-          fail(source, std::string("vertex element has no '") + axis + "' property");
+          ply_fail(source, std::string("vertex element has no '") + axis + "' property");
     }
   }
-  if (!vertex) fail(source, "has no vertex element");
+  if (!vertex) ply_fail(source, "has no vertex element");
   return origin;
 }
 
@@ -200,9 +201,9 @@ PointCloud read_ply(const std::filesystem::path& path) {
     try {
       rc = reader.read(path.string(), blob, origin, orientation, version);
     } catch (const std::exception& e) {
-      fail(path.string(), std::string("could not be parsed: ") + e.what());
+      ply_fail(path.string(), std::string("could not be parsed: ") + e.what());
     }
-    if (rc < 0) fail(path.string(), "could not be parsed (malformed or truncated body)");
+    if (rc < 0) ply_fail(path.string(), "could not be parsed (malformed or truncated body)");
   }
   PointCloud cloud = detail::from_pcl_cloud2(blob, path.string());
   cloud.origin_m = origin;

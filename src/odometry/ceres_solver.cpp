@@ -7,6 +7,7 @@
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/odometry/lm_solver.hpp"
+#include "skew.hpp"
 
 #if FIELDLIDAR_HAVE_CERES
 #include <ceres/ceres.h>
@@ -32,11 +33,7 @@ namespace {
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
+using detail::skew;
 
 /// The parameter block: a pose as (quaternion x y z w, translation), 7 numbers. Its tangent is
 /// solve_lm's increment xi = (rotation vector, translation) with x <- se3_exp(xi) * x. The cost

@@ -8,6 +8,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "skew.hpp"
+
 namespace fieldlidar::odometry {
 
 namespace {
@@ -15,11 +17,7 @@ namespace {
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
+using detail::skew;
 
 struct System {
   Mat6 H = Mat6::Zero();

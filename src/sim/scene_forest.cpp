@@ -12,8 +12,6 @@ namespace fieldlidar::sim {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 double distance_to_polyline(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& line) {
   double best = 1e300;
   for (std::size_t i = 0; i + 1 < line.size(); ++i) {
@@ -39,7 +37,8 @@ Scene make_forest_scene(const ForestConfig& cfg, std::uint64_t seed) {
   std::mt19937_64 rng(seed * 15485863 + 3);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   const double sx = cfg.size_x_m, sy = cfg.size_y_m;
-  const double p1 = 2 * kPi * uni(rng), p2 = 2 * kPi * uni(rng), p3 = 2 * kPi * uni(rng);
+  const double p1 = 2 * std::numbers::pi * uni(rng), p2 = 2 * std::numbers::pi * uni(rng),
+               p3 = 2 * std::numbers::pi * uni(rng);
   const double relief = cfg.floor_relief_m;
   // Long slope, rolling undulation and a rough micro-relief (roots, litter) of a few cm.
   const auto height = [&](double x, double y) {
@@ -56,7 +55,7 @@ Scene make_forest_scene(const ForestConfig& cfg, std::uint64_t seed) {
   // The robot's winding route through the stand; trunks keep clear of it.
   std::vector<Eigen::Vector2d> route;
   for (double x = 4.0; x <= sx - 4.0 + 1e-9; x += 2.0)
-    route.emplace_back(x, 0.5 * sy + 0.12 * sy * std::sin(2 * kPi * x / sx * 1.5));
+    route.emplace_back(x, 0.5 * sy + 0.12 * sy * std::sin(2 * std::numbers::pi * x / sx * 1.5));
   scene.set_robot_route(route, false);
 
   const int n_trees = static_cast<int>(std::round(cfg.trees_per_ha * sx * sy / 10000.0));
@@ -79,8 +78,9 @@ Scene make_forest_scene(const ForestConfig& cfg, std::uint64_t seed) {
     t.dbh_m = dbh;
     t.base_m = {p.x(), p.y(), scene.ground_height_at(p)};
     t.leaning = uni(rng) < cfg.leaning_fraction;
-    const double tilt = t.leaning ? (6.0 + 9.0 * uni(rng)) * kPi / 180 : 1.5 * uni(rng) * kPi / 180;
-    t.axis = tilted_axis(tilt, 2 * kPi * uni(rng));
+    const double tilt = t.leaning ? (6.0 + 9.0 * uni(rng)) * std::numbers::pi / 180
+                                  : 1.5 * uni(rng) * std::numbers::pi / 180;
+    t.axis = tilted_axis(tilt, 2 * std::numbers::pi * uni(rng));
     t.height_m = 10.0 + 12.0 * uni(rng) + 10.0 * dbh;
     t.forked = uni(rng) < cfg.forked_fraction;
     const auto trunk_label = make_label(LabelClass::kTrunk, t.id);
@@ -96,7 +96,7 @@ Scene make_forest_scene(const ForestConfig& cfg, std::uint64_t seed) {
     std::vector<Eigen::Vector3d> crowns;
     if (t.forked) {
       t.fork_height_m = trunk_len;
-      const double az = 2 * kPi * uni(rng);
+      const double az = 2 * std::numbers::pi * uni(rng);
       for (int side : {-1, 1}) {
         const Eigen::Vector3d stem_axis =
             (t.axis + 0.35 * side * Eigen::Vector3d(std::cos(az), std::sin(az), 0)).normalized();
@@ -114,7 +114,8 @@ Scene make_forest_scene(const ForestConfig& cfg, std::uint64_t seed) {
     t.low_branches = low;
     for (int b = 0; b < low; ++b) {
       const double at = 1.5 + 1.5 * uni(rng);
-      const double az = 2 * kPi * uni(rng), up = (10 + 30 * uni(rng)) * kPi / 180;
+      const double az = 2 * std::numbers::pi * uni(rng),
+                   up = (10 + 30 * uni(rng)) * std::numbers::pi / 180;
       const Eigen::Vector3d dir(std::cos(az) * std::cos(up), std::sin(az) * std::cos(up),
                                 std::sin(up));
       const Eigen::Vector3d start = t.base_m + at * t.axis;

@@ -11,13 +11,11 @@ namespace fieldlidar::sim {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 struct LawnShape {
   double length, width, bulge;
   /// y of the curved far edge at x (the lawn is 0 <= y <= top(x) for 0 <= x <= length).
   double top(double x) const {
-    return width + bulge * std::sin(kPi * std::clamp(x / length, 0.0, 1.0));
+    return width + bulge * std::sin(std::numbers::pi * std::clamp(x / length, 0.0, 1.0));
   }
   bool inside(double x, double y) const { return x >= 0 && x <= length && y >= 0 && y <= top(x); }
 };
@@ -65,7 +63,8 @@ Scene make_lawn_scene(const LawnConfig& cfg, std::uint64_t seed) {
   std::mt19937_64 rng(seed * 7919 + 1);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   const LawnShape lawn{cfg.length_m, cfg.width_m, 3.0};
-  const double ph1 = 2 * kPi * uni(rng), ph2 = 2 * kPi * uni(rng), ph3 = 2 * kPi * uni(rng);
+  const double ph1 = 2 * std::numbers::pi * uni(rng), ph2 = 2 * std::numbers::pi * uni(rng),
+               ph3 = 2 * std::numbers::pi * uni(rng);
   const double a = cfg.undulation_m;
   // Gentle waves (wavelengths 18-40 m) and a 4 cm drop from the mown lawn to its surroundings.
   const auto height = [&](double x, double y) {

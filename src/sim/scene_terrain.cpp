@@ -13,8 +13,6 @@ namespace fieldlidar::sim {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 double smoothstep(double e0, double e1, double x) {
   const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
   return t * t * (3 - 2 * t);
@@ -37,12 +35,13 @@ Scene make_terrain_scene(const TerrainConfig& cfg, std::uint64_t seed) {
   std::mt19937_64 rng(seed * 32452843 + 4);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   const double sx = cfg.size_x_m, sy = cfg.size_y_m;
-  const double p1 = 2 * kPi * uni(rng), p2 = 2 * kPi * uni(rng);
+  const double p1 = 2 * std::numbers::pi * uni(rng), p2 = 2 * std::numbers::pi * uni(rng);
   const double route_y = 0.5 * sy;
   // A Gaussian hill's steepest slope is A / sigma * exp(-1/2): size it to reach the maximum slope
   // (less the rolling base's 3 deg).
   const double sigma = 5.0;
-  const double amp = std::tan((cfg.max_slope_deg - 3.0) * kPi / 180) * sigma / std::exp(-0.5);
+  const double amp =
+      std::tan((cfg.max_slope_deg - 3.0) * std::numbers::pi / 180) * sigma / std::exp(-0.5);
   const Eigen::Vector2d hill(0.75 * sx, route_y + 2.6 * sigma);
   const Eigen::Vector2d ditch_a(0.15 * sx, route_y + 5.0), ditch_b(0.35 * sx, sy - 1.0);
   const double step_y = route_y - 7.0, step_x0 = 0.4 * sx, step_x1 = 0.7 * sx;
@@ -63,7 +62,7 @@ Scene make_terrain_scene(const TerrainConfig& cfg, std::uint64_t seed) {
     h += amp * std::exp(-(p - hill).squaredNorm() / (2 * sigma * sigma));
     // Ditch: 0.8 m deep, 1 m half-width, cosine cross-section.
     const double dd = segment_distance(p, ditch_a, ditch_b);
-    if (dd < 1.0) h -= 0.8 * 0.5 * (1 + std::cos(kPi * dd));
+    if (dd < 1.0) h -= 0.8 * 0.5 * (1 + std::cos(std::numbers::pi * dd));
     for (const auto& pit : pits) {
       const double d = (p - pit.c).norm();
       if (d < pit.r) h -= pit.depth * (1 - smoothstep(0.6 * pit.r, pit.r, d));
@@ -80,7 +79,7 @@ Scene make_terrain_scene(const TerrainConfig& cfg, std::uint64_t seed) {
 
   std::vector<Eigen::Vector2d> route;
   for (double x = 3.0; x <= sx - 3.0 + 1e-9; x += 2.0)
-    route.emplace_back(x, route_y + 1.5 * std::sin(2 * kPi * x / 25.0));
+    route.emplace_back(x, route_y + 1.5 * std::sin(2 * std::numbers::pi * x / 25.0));
   scene.set_robot_route(route, false);
   const auto near_route = [&](const Eigen::Vector2d& p, double clearance) {
     for (std::size_t i = 0; i + 1 < route.size(); ++i)
@@ -113,7 +112,7 @@ Scene make_terrain_scene(const TerrainConfig& cfg, std::uint64_t seed) {
   for (int k = 0; k < cfg.branches; ++k) {
     const double x = 6.0 + (sx - 12.0) * (k + 0.5) / std::max(1, cfg.branches);
     const double side = k % 2 == 0 ? 1.0 : -1.0;
-    const double ry = route_y + 1.5 * std::sin(2 * kPi * x / 25.0);
+    const double ry = route_y + 1.5 * std::sin(2 * std::numbers::pi * x / 25.0);
     const Eigen::Vector2d trunk(x, ry + side * 3.2);
     const double z = scene.ground_height_at(trunk);
     const auto trunk_label = make_label(LabelClass::kTrunk, static_cast<std::uint16_t>(k + 1));
