@@ -55,6 +55,10 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
     t.legs_now = 0;
   }
   const double pair2 = c.pair_distance_max_m * c.pair_distance_max_m;
+  auto standing_shape = [&](const LegObservation& a, const LegObservation& b) {
+    return a.width_m <= c.standing_leg_width_max_m && b.width_m <= c.standing_leg_width_max_m &&
+           (a.position_m - b.position_m).norm() <= c.standing_pair_distance_max_m;
+  };
   auto capped = [&](double s) { return std::min(s - c.score_offset, c.score_cap); };
 
   // Hypotheses of each track: every pair and every single leg within the gate.
@@ -96,6 +100,7 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
       sigma = c.pair_sigma_m;
       out.person_of_leg[std::size_t(h.b)] = t.id;
       ++t.pair_hits;
+      if (standing_shape(la, lb)) ++t.standing_pair_hits;
     }
     kalman_update(t.filter, z, sigma);
     const Eigen::Vector2d v = t.filter.velocity();
@@ -133,7 +138,7 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
     t.occupied_scans = on_occupied(occupied, t.position()) ? t.occupied_scans + 1 : 0;
     if (!t.reported && t.evidence >= c.confirm_evidence && t.hits >= c.confirm_hits &&
         (t.travel_m >= c.min_travel_m || t.zone_pair_hits >= c.zone_confirm_hits ||
-         (c.standing_pair_hits > 0 && t.pair_hits >= c.standing_pair_hits) ||
+         (c.standing_pair_hits > 0 && t.standing_pair_hits >= c.standing_pair_hits) ||
          t.evidence >= c.strong_evidence))
       t.reported = true;
   }
@@ -152,13 +157,15 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
       return (t.position() - p).norm() < c.birth_min_separation_m;
     });
   };
-  auto birth = [&](const Eigen::Vector2d& p, double sigma, double evidence, bool pair) {
+  auto birth = [&](const Eigen::Vector2d& p, double sigma, double evidence, bool pair,
+                   bool standing) {
     JointTrack t;
     t.id = next_id_++;
     t.filter = new_filter(t.id, p, stamp_s, sigma);
     t.evidence = evidence;
     t.hits = 1;
     t.pair_hits = pair ? 1 : 0;
+    t.standing_pair_hits = standing ? 1 : 0;
     t.zone_pair_hits = pair && in_zone(p) ? 1 : 0;
     t.born_m = p;
     t.legs_now = pair ? 2 : 1;
@@ -181,14 +188,15 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
     const auto& lj = legs[std::size_t(j)];
     const Eigen::Vector2d mid = 0.5 * (li.position_m + lj.position_m);
     if (!free_here(mid)) continue;
-    const auto id = birth(mid, c.pair_sigma_m, capped(li.score) + capped(lj.score), true);
+    const auto id = birth(mid, c.pair_sigma_m, capped(li.score) + capped(lj.score), true,
+                          standing_shape(li, lj));
     out.person_of_leg[std::size_t(i)] = out.person_of_leg[std::size_t(j)] = id;
   }
   for (std::size_t i = 0; i < legs.size(); ++i) {
     if (used(int(i)) || legs[i].score < c.single_birth_score_min) continue;
     if (!free_here(legs[i].position_m)) continue;
-    out.person_of_leg[i] =
-        birth(legs[i].position_m, c.single_sigma_m, c.single_weight * capped(legs[i].score), false);
+    out.person_of_leg[i] = birth(legs[i].position_m, c.single_sigma_m,
+                                 c.single_weight * capped(legs[i].score), false, false);
   }
 
   for (const auto& t : tracks_)

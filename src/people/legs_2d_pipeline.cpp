@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace fieldlidar::people {
 
@@ -63,21 +64,47 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   for (const auto& [b, e] : segments)
     if ((pts[e - 1] - pts[b]).norm() <= config_.compact_chord_max_m)
       std::fill(compact.begin() + std::ptrdiff_t(b), compact.begin() + std::ptrdiff_t(e), char(1));
+  const bool trace = config_.trace_segments;
+  std::vector<std::size_t> cand_trace;  // per candidate: its entry in out.segments
   for (const auto& [b, e] : segments) {
+    SegmentTrace* tr = nullptr;
+    if (trace) {
+      tr = &out.segments.emplace_back();
+      tr->begin = b;
+      tr->end = e;
+      for (std::size_t k = b; k < e; ++k) tr->mean_m += pts[k];
+      tr->mean_m /= double(e - b);
+      tr->score = std::numeric_limits<double>::quiet_NaN();
+    }
     double s = 0;
     if (dc.classifier) {
       s = dc.classifier->score(segment_features(pts, b, e));
+      if (tr) tr->score = s - dc.classifier->threshold;
       if (s <= config_.candidate_score_min) continue;
       s -= dc.classifier->threshold;
     } else {
       if (classify_arc(arc_features(std::span(pts).subspan(b, e - b), dc), dc) != ArcVerdict::kLeg)
         continue;
       s = 1.0;
+      if (tr) tr->score = s;
     }
-    if (dc.use_foreground && !in_foreground(pts, b, e, dc.foreground_margin_m)) continue;
+    if (dc.use_foreground && !in_foreground(pts, b, e, dc.foreground_margin_m)) {
+      if (tr) tr->fate = SegmentFate::kNotForeground;
+      continue;
+    }
     if (dc.use_background) {
-      if (world_background_.is_static(std::span(world).subspan(b, e - b))) continue;
-      if (moving_frame && sensor_background_.is_static(std::span(pts).subspan(b, e - b))) continue;
+      if (world_background_.is_static(std::span(world).subspan(b, e - b))) {
+        if (tr) tr->fate = SegmentFate::kWorldBackground;
+        continue;
+      }
+      if (moving_frame && sensor_background_.is_static(std::span(pts).subspan(b, e - b))) {
+        if (tr) tr->fate = SegmentFate::kSensorBackground;
+        continue;
+      }
+    }
+    if (tr) {
+      tr->fate = SegmentFate::kNotLeg;
+      cand_trace.push_back(out.segments.size() - 1);
     }
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     for (std::size_t k = b; k < e; ++k) mean += pts[k];
@@ -101,6 +128,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       prior = ev;
       ev = config_.evidence_decay * ev + score[i];
     }
+    if (trace) out.segments[cand_trace[i]].evidence = prior;
     if (score[i] > 0 || prior > 0) {
       // A leg on occupied space is no person's leg: the occupancy grid forbids tracks there.
       const auto [b, e] = cand_range[i];
@@ -120,8 +148,12 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
         per_scan_legs.push_back(cand[i]);
         if (!doubtful) out.legs.push_back({cand[i], score[i], track, prior, occupied});
       }
+      if (trace)
+        out.segments[cand_trace[i]].fate =
+            occupied ? SegmentFate::kOccupied : SegmentFate::kPersonInput;
       if (occupied) continue;
-      obs.push_back({cand_world[i], score[i] > 0 ? score[i] : config_.carried_leg_score});
+      obs.push_back({cand_world[i], score[i] > 0 ? score[i] : config_.carried_leg_score,
+                     (pts[e - 1] - pts[b]).norm()});
       obs_cand.push_back(i);
     }
   }
@@ -139,6 +171,9 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   // 4. People: the legs off occupied space tracked jointly in the fixed frame (the occupancy
   // grid of non-person returns also forbids person tracks to stay on occupied cells).
   const auto joint = persons_joint_.update(stamp_s, obs, out.pose, &occupancy_);
+  if (trace)
+    for (std::size_t k = 0; k < obs.size(); ++k)
+      out.segments[cand_trace[obs_cand[k]]].person = joint.person_of_leg[k];
   std::vector<Eigen::Vector2d> reported_world;
   for (const auto id : joint.reported) {
     const JointTrack* t = persons_joint_.find(id);

@@ -90,6 +90,35 @@ TEST(JointPersonTracker, WeakLegsAreNoPerson) {
             .reported.empty());
 }
 
+// A pair that stands still is reported on its paired detections only when it has a standing
+// person's shape: legs no wider than a leg, feet no farther apart than a shoulder's width. Two
+// wide blobs (bins, boxes) or two legs 0.55 m apart (a chair's) stay unreported, with the same
+// scores and as many pairs.
+TEST(JointPersonTracker, StandingPairsNeedAPersonsShape) {
+  auto reported_scans = [](double half_gap_m, double width_m) {
+    JointTrackerConfig c;
+    c.strong_evidence = 1e9;  // paired detections only
+    JointPersonTracker tracker(c);
+    int reported = 0;
+    for (int k = 0; k < 20; ++k) {
+      const std::vector<LegObservation> legs{{{4.0, half_gap_m}, 1.0, width_m},
+                                             {{4.0, -half_gap_m}, 1.0, width_m}};
+      reported += !tracker.update(0.1 * k, legs, Eigen::Isometry2d::Identity()).reported.empty();
+      if (k == 19) {
+        EXPECT_EQ(tracker.tracks().size(), 1u);
+        if (!tracker.tracks().empty()) {
+          EXPECT_EQ(tracker.tracks()[0].pair_hits, 20);
+        }
+      }
+    }
+    return reported;
+  };
+  EXPECT_GE(reported_scans(0.14, 0.10), 16);  // a person: 0.28 m between the legs
+  EXPECT_GE(reported_scans(0.14, 0.0), 16);   // widths unknown (0) pass
+  EXPECT_EQ(reported_scans(0.14, 0.30), 0);   // wider than a leg
+  EXPECT_EQ(reported_scans(0.275, 0.10), 0);  // 0.55 m apart
+}
+
 TEST(JointPersonTracker, TimeMustNotGoBack) {
   JointPersonTracker tracker;
   tracker.update(1.0, {}, Eigen::Isometry2d::Identity());

@@ -164,6 +164,44 @@ TEST(LegPipeline2D, AStandingOperatorIsReportedBeforeWalkingAndKeepsTheId) {
   EXPECT_EQ(false_reports, 0);
 }
 
+// With trace_segments, every segment of the scan is accounted for, and the legs the person
+// tracker took are the segments traced as its input: here the table's legs (leg-shaped, on
+// occupied space once the grid has seen them) and the walker's legs.
+TEST(LegPipeline2D, SegmentTraceAccountsForEverySegment) {
+  const Room room;
+  auto config = bounds_config();
+  config.trace_segments = true;
+  LegPipeline2D pipeline(config);
+  LegPipeline2D plain(bounds_config());
+  std::size_t occupied = 0, input = 0;
+  for (int k = 0; k < 30; ++k) {
+    const double t = 0.1 * k;
+    const auto scan = scan_from(Eigen::Isometry2d::Identity(), room, walker(t));
+    const auto out = pipeline.process(t, scan);
+    const auto same = plain.process(t, scan);
+    EXPECT_EQ(out.people.size(), same.people.size());  // tracing changes nothing
+    EXPECT_TRUE(same.segments.empty());
+    const auto pts = points_in_range(scan, config.detector);
+    ASSERT_FALSE(out.segments.empty());
+    EXPECT_EQ(out.segments.front().begin, 0u);
+    EXPECT_EQ(out.segments.back().end, pts.size());
+    for (std::size_t i = 0; i + 1 < out.segments.size(); ++i)
+      EXPECT_EQ(out.segments[i].end, out.segments[i + 1].begin);
+    std::size_t legs_traced = 0;
+    for (const auto& s : out.segments) {
+      legs_traced += s.fate == SegmentFate::kPersonInput || s.fate == SegmentFate::kOccupied;
+      occupied += s.fate == SegmentFate::kOccupied;
+      input += s.fate == SegmentFate::kPersonInput;
+      if (s.fate != SegmentFate::kPersonInput) {
+        EXPECT_EQ(s.person, -1);
+      }
+    }
+    EXPECT_EQ(legs_traced, out.legs.size());
+  }
+  EXPECT_GT(occupied, 0u);
+  EXPECT_GT(input, 0u);
+}
+
 TEST(LegPipeline2D, EmptyAndInvalidScans) {
   LegPipeline2D pipeline(bounds_config());
   EXPECT_TRUE(pipeline.process(0.0, {}).legs.empty());

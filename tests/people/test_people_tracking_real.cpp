@@ -117,12 +117,14 @@ TEST(PeopleTrackingReal, MovingRobotBenchmarkBagStandingPeopleKept) {
   EXPECT_LE(s.held_out.false_positives, 11u);
 }
 
-// Measured: false persons per scan 0 / 0 / 0.028 (one 12-scan track on /right_scan; main:
-// 0 / 0.023 / 0.021); false legs per scan 0.561 / 0.915 / 0.717 (3.17 / 4.33 / 3.51 before legs
-// on occupied space needed a sure score or track evidence, occupied_leg_score_min).
+// Measured: false persons per scan 0 / 0 / 0 (0 / 0 / 0.028 before standing pairs needed a
+// person's shape, JointTrackerConfig::standing_leg_width_max_m: one 12-scan track on
+// /right_scan of two 0.2-0.35 m wide blobs 0.5 m apart); false legs per scan 0.561 / 0.915 /
+// 0.694 (3.17 / 4.33 / 3.51 before legs on occupied space needed a sure score or track
+// evidence, occupied_leg_score_min).
 TEST(PeopleTrackingReal, PeopleFreeBag) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d/negative_2.bag");
-  const double max_false_persons[] = {0.005, 0.005, 0.035};
+  const double max_false_persons[] = {0.005, 0.005, 0.005};
   int i = 0;
   for (const char* topic : {"/left_scan", "/rear_scan", "/right_scan"}) {
     const auto scans = test::load_leg_scans("legs_2d/negative_2.bag", topic, "");

@@ -65,8 +65,12 @@ struct LegPipeline2DConfig {
   /// hits, confidence, lifetime, leg spacing) tells them apart. At weight 1 the grid takes both
   /// within 2-3 scans; below 0.2 it never takes them (`background` does after ~3 s). Measured,
   /// general_tracking_moving_1.bag scans 0-436 (matched of 133) / negative_2.bag false persons
-  /// per scan (left, rear, right): weight 1: 2 / 0, 0, 0.028; 0.3: 31 / 0.09, 0.13, 0.05;
-  /// 0: 39 / 0.17, 0.22, 0.12. Weight 1 (no false follow of furniture) is the default.
+  /// per scan (left, rear, right), before standing pairs needed a person's shape: weight 1:
+  /// 2 / 0, 0, 0.028; 0.3: 31 / 0.09, 0.13, 0.05; 0: 39 / 0.17, 0.22, 0.12; with that rule
+  /// (JointTrackerConfig::standing_leg_width_max_m): 1: 2 / 0, 0, 0; 0.3: 31 / 0.074, 0.060,
+  /// 0.044; 0: 39 / 0.085, 0.069, 0.085. Weight 1 (no false follow of furniture) is the default.
+  /// The same with the robot's pose from the bag's /odom and /tf instead of scan matching:
+  /// 2 and 39 matched, as here (the ego-motion is not what loses the standing people).
   double compact_chord_max_m = 0.6;
   double compact_occupancy_weight = 1.0;
   /// The slow sensor-frame background (the robot's own body, when the sensor moves) learns only
@@ -142,6 +146,28 @@ struct LegPipeline2DConfig {
     t.delete_after_miss_s = 1.0;
     return t;
   }();
+  /// Fill LegPipeline2DOutput::segments (what became of every segment of the scan).
+  bool trace_segments = false;
+};
+
+/// What became of one segment of a scan, the first step that stopped it (or kPersonInput).
+enum class SegmentFate : std::uint8_t {
+  kNotCandidate,      ///< classifier score at most candidate_score_min (or shape tests failed)
+  kNotForeground,     ///< seen through a gap behind something nearer
+  kWorldBackground,   ///< on the slow background of the fixed frame
+  kSensorBackground,  ///< on the slow background of the sensor frame (the robot's body)
+  kNotLeg,            ///< a candidate neither above the threshold nor carried by its track
+  kOccupied,          ///< a leg on the occupancy grid of non-person returns
+  kPersonInput,       ///< a leg given to the person tracker
+};
+
+struct SegmentTrace {
+  std::size_t begin = 0, end = 0;                    ///< indices into the scan's in-range points
+  Eigen::Vector2d mean_m = Eigen::Vector2d::Zero();  ///< sensor frame
+  double score = 0;     ///< classifier score minus its threshold (NaN when not scored)
+  double evidence = 0;  ///< its leg track's evidence before this scan
+  SegmentFate fate = SegmentFate::kNotCandidate;
+  std::int64_t person = -1;  ///< the person track it updated (kPersonInput), or -1
 };
 
 struct PipelineLeg {
@@ -165,7 +191,8 @@ struct LegPipeline2DOutput {
   /// the legs of this scan alone, before the occupied-space rule).
   std::size_t person_detections = 0;
   Eigen::Isometry2d pose = Eigen::Isometry2d::Identity();  ///< sensor -> fixed frame
-  bool ego_motion_ok = true;  ///< false when scan matching failed on this scan
+  bool ego_motion_ok = true;           ///< false when scan matching failed on this scan
+  std::vector<SegmentTrace> segments;  ///< with LegPipeline2DConfig::trace_segments only
 };
 
 class LegPipeline2D {
