@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <string>
@@ -21,6 +22,7 @@
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/people/clear_mot.hpp"
 #include "fieldlidar/people/leg_training.hpp"
+#include "fieldlidar/people/person_loss.hpp"
 #include "support/legs_runner.hpp"
 #include "support/tracking_truth.hpp"
 #include "support/warnings.hpp"
@@ -43,12 +45,32 @@ struct EvalTrackingOptions {
   int truth_min_points = 0;  ///< simulated folders: persons hit by fewer returns are not scored
   bool paper_switches = false;
   bool json = false;
+  bool losses = false;     ///< 2D: where each scored annotated person is lost
+  std::string losses_csv;  ///< and one row per scored annotated person
   LegsRunOptions legs;
 };
 
-/// Runs the legs pipeline on the frames of `truth` and returns its tracked persons per frame.
-PersonsPerFrame run_tracker(const EvalTrackingOptions& o, const TrackingTruth& truth) {
-  LegsRunner runner(o.legs);
+/// One scored annotated person and the step of the legs pipeline where it was lost.
+struct LossRow {
+  std::size_t frame = 0;
+  IdentifiedPoint truth;
+  people::PersonLoss loss = people::PersonLoss::kNoSegment;
+};
+
+bool in_wedge(const Eigen::Vector2d& p, const std::vector<double>& wedge) {
+  return wedge.size() != 2 ||
+         people::in_bearing_wedge(p, wedge[0], wedge[1], std::numeric_limits<double>::infinity());
+}
+
+/// Runs the legs pipeline on the frames of `truth` and returns its tracked persons per frame;
+/// with `losses`, also where each annotated person of frames `first`..`last` - 1 inside the
+/// wedge was lost.
+PersonsPerFrame run_tracker(const EvalTrackingOptions& o, const TrackingTruth& truth,
+                            std::size_t first, std::size_t last, std::vector<LossRow>* losses) {
+  auto legs_options = o.legs;
+  legs_options.trace_segments = losses != nullptr;
+  LegsRunner runner(legs_options);
+  const people::PersonLossConfig loss_config{.gate_m = o.gate_m, .near_m = 2 * o.gate_m};
   io::SourceOptions so;
   so.topic = truth.topic;
   auto source = io::FrameSource::open(truth.frames_input, so);
@@ -61,12 +83,35 @@ PersonsPerFrame run_tracker(const EvalTrackingOptions& o, const TrackingTruth& t
     auto& v = out.emplace_back();
     for (std::size_t i = 0; i < found.persons.size(); ++i)
       v.push_back({found.person_ids[i], found.persons[i]});
+    const std::size_t f = out.size() - 1;
+    if (!losses || f < first || f >= last || f >= truth.persons.size()) continue;
+    if (!runner.scans_2d())
+      throw Error(o.input + ": --losses traces the 2D legs pipeline; these frames are 3D");
+    std::vector<people::PipelinePerson> reported;
+    for (const auto& p : found.persons) reported.push_back({.position_m = p});
+    for (const auto& t : truth.persons[f])
+      if (in_wedge(t.position_m, o.truth_wedge))
+        losses->push_back(
+            {f, t, people::person_loss(t.position_m, found.segments, reported, loss_config)});
   }
   warn_source_losses(*source);
   if (out.size() != truth.persons.size())
     throw Error(o.input + ": " + std::to_string(out.size()) + " frames read but " +
                 std::to_string(truth.persons.size()) + " frames of truth");
   return out;
+}
+
+void write_losses_csv(const std::string& path, const std::vector<LossRow>& rows) {
+  std::ofstream out(path);
+  if (!out) throw Error(path + ": cannot be written (--losses-csv)");
+  out << "frame,truth_id,x_m,y_m,range_m,bearing_deg,loss\n";
+  for (const auto& r : rows) {
+    const auto& p = r.truth.position_m;
+    out << fmt::format("{},{},{:.3f},{:.3f},{:.3f},{:.1f},{}\n", r.frame, r.truth.id, p.x(), p.y(),
+                       p.norm(), std::atan2(p.y(), p.x()) * 180 / M_PI,
+                       people::person_loss_name(r.loss));
+  }
+  if (!out) throw Error(path + ": write failed (--losses-csv)");
 }
 
 std::vector<IdentifiedPoint> in_wedge(const std::vector<IdentifiedPoint>& v,
@@ -94,16 +139,22 @@ void run_eval_tracking(EvalTrackingOptions o) {
     throw Error(
         "eval-tracking: --detections pairs tracked persons with frames by stamp, and the "
         "frame files of a simulated folder carry none: run without --detections");
-  const PersonsPerFrame tracked = o.detections.empty()
-                                      ? run_tracker(o, truth)
-                                      : read_person_tracks_csv(o.detections, truth.stamps_s);
-
   if (o.scans.size() == 2 && !(o.scans[0] <= o.scans[1] && o.scans[1] < truth.persons.size()))
     throw Error(fmt::format("--scans {}:{}: expected FIRST <= LAST < {} (the frames of {})",
                             o.scans[0], o.scans[1], truth.persons.size(), o.input));
   // The tracker runs on every frame (its tracks carry over); only the range is scored.
   const std::size_t first = o.scans.size() == 2 ? o.scans[0] : 0;
   const std::size_t last = o.scans.size() == 2 ? o.scans[1] + 1 : truth.persons.size();
+  if (!o.losses_csv.empty()) o.losses = true;
+  if (o.losses && !o.detections.empty())
+    throw Error("eval-tracking: --losses traces the legs pipeline: run without --detections");
+  std::vector<LossRow> losses;
+  const PersonsPerFrame tracked =
+      o.detections.empty() ? run_tracker(o, truth, first, last, o.losses ? &losses : nullptr)
+                           : read_person_tracks_csv(o.detections, truth.stamps_s);
+  people::PersonLossCounts loss_counts{};
+  for (const auto& r : losses) ++loss_counts[std::size_t(r.loss)];
+  if (!o.losses_csv.empty()) write_losses_csv(o.losses_csv, losses);
   people::ClearMotScorer scorer(
       {.gate_m = o.gate_m, .count_track_side_switches = !o.paper_switches});
   std::size_t annotated = 0, tracked_all = 0, scans_with_truth = 0;
@@ -140,6 +191,12 @@ void run_eval_tracking(EvalTrackingOptions o) {
     j["scans"] = o.scans.size() == 2 ? nlohmann::json(o.scans) : nlohmann::json();
     j["truth_wedge_deg"] =
         o.truth_wedge.size() == 2 ? nlohmann::json(o.truth_wedge) : nlohmann::json();
+    if (o.losses) {
+      nlohmann::json l = nlohmann::json::object();
+      for (std::size_t k = 0; k < people::kPersonLosses; ++k)
+        l[std::string(people::person_loss_name(people::PersonLoss(k)))] = loss_counts[k];
+      j["losses"] = l;
+    }
     std::printf("%s\n", j.dump(2).c_str());
     return;
   }
@@ -157,6 +214,12 @@ void run_eval_tracking(EvalTrackingOptions o) {
       "frame\n",
       c.truth ? fmt::format("{:.4f}", c.recall()) : std::string("n/a"), c.matches, c.truth,
       c.false_positives_per_frame());
+  if (o.losses) {
+    fmt::print("where the {} scored annotated persons are lost (furthest step reached):\n",
+               losses.size());
+    for (std::size_t k = 0; k < people::kPersonLosses; ++k)
+      fmt::print("  {:<22} {}\n", people::person_loss_name(people::PersonLoss(k)), loss_counts[k]);
+  }
 }
 
 }  // namespace
@@ -206,6 +269,14 @@ void add_eval_tracking_command(CLI::App& app) {
                 "Count only the CLEAR MOT paper's id switches (an annotated person whose track "
                 "changed), not also a track that moved to another person as the benchmark does");
   cmd->add_flag("--json", o->json, "Print machine-readable JSON");
+  cmd->add_flag("--losses", o->losses,
+                "2D: count where each scored annotated person is lost in the legs pipeline (the "
+                "furthest step its scan segments reached: no segment, not a candidate, "
+                "background, not a leg, occupied space, no person track, not reported) or "
+                "reported");
+  cmd->add_option("--losses-csv", o->losses_csv,
+                  "2D: also write one row per scored annotated person with its loss (implies "
+                  "--losses)");
   cmd->add_option("--config", o->legs.config, "Leg detector YAML (as for `fieldlidar legs`)");
   cmd->add_option("--sensor", o->legs.sensor, "Sensor preset for 3D input without metadata");
   cmd->add_flag("--still", o->legs.still, "2D: the sensor does not move");

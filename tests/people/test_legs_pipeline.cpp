@@ -8,6 +8,7 @@
 #include <set>
 
 #include "fieldlidar/people/legs_2d_pipeline.hpp"
+#include "fieldlidar/people/person_loss.hpp"
 #include "fieldlidar/people/scan_matcher_2d.hpp"
 #include "synthetic_scan.hpp"
 
@@ -200,6 +201,37 @@ TEST(LegPipeline2D, SegmentTraceAccountsForEverySegment) {
   }
   EXPECT_GT(occupied, 0u);
   EXPECT_GT(input, 0u);
+}
+
+// person_loss: the furthest step reached by the segments near the person, unless a reported
+// person is within the gate (or near it).
+TEST(PersonLoss, FurthestStepOfTheSegmentsNearThePerson) {
+  const Eigen::Vector2d truth(3.0, 0.0);
+  auto seg = [](double x, SegmentFate fate, std::int64_t person = -1) {
+    SegmentTrace s;
+    s.mean_m = {x, 0.0};
+    s.fate = fate;
+    s.person = person;
+    return s;
+  };
+  std::vector<SegmentTrace> segs{seg(1.0, SegmentFate::kPersonInput, 4)};  // far from the person
+  EXPECT_EQ(person_loss(truth, segs, {}), PersonLoss::kNoSegment);
+  segs.push_back(seg(3.1, SegmentFate::kNotCandidate));
+  EXPECT_EQ(person_loss(truth, segs, {}), PersonLoss::kNotCandidate);
+  segs.push_back(seg(2.9, SegmentFate::kSensorBackground));
+  EXPECT_EQ(person_loss(truth, segs, {}), PersonLoss::kBackground);
+  segs.push_back(seg(3.2, SegmentFate::kOccupied));
+  EXPECT_EQ(person_loss(truth, segs, {}), PersonLoss::kOccupied);
+  segs.push_back(seg(3.0, SegmentFate::kPersonInput));
+  EXPECT_EQ(person_loss(truth, segs, {}), PersonLoss::kNoPersonTrack);
+  segs.push_back(seg(2.8, SegmentFate::kPersonInput, 7));
+  EXPECT_EQ(person_loss(truth, segs, {}), PersonLoss::kNotReported);
+  std::vector<PipelinePerson> reported{{.position_m = {4.0, 0.0}}};
+  EXPECT_EQ(person_loss(truth, segs, reported), PersonLoss::kReportedBeyondGate);
+  reported.push_back({.position_m = {3.5, 0.0}});
+  EXPECT_EQ(person_loss(truth, segs, reported), PersonLoss::kReported);
+  EXPECT_EQ(person_loss_name(PersonLoss::kOccupied), "occupied");
+  EXPECT_EQ(person_loss_name(PersonLoss::kReported), "reported");
 }
 
 TEST(LegPipeline2D, EmptyAndInvalidScans) {

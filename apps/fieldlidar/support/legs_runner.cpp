@@ -67,6 +67,7 @@ LegsRunner::LegsRunner(const LegsRunOptions& o)
   pipeline_config.detector = legs_;
   pipeline_config.estimate_ego_motion = !o.still;
   pipeline_config.compact_occupancy_weight = o.compact_occupancy;
+  pipeline_config.trace_segments = o.trace_segments;
   if (o.occupied_leg.size() == 2) {
     pipeline_config.occupied_leg_score_min = o.occupied_leg[0];
     pipeline_config.occupied_leg_evidence_min = o.occupied_leg[1];
@@ -80,7 +81,8 @@ FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSourc
     // A 2D scan is one ring: points in beam order. Persons are the pipeline's tracked people.
     if (!missing_config_.empty()) throw Error(missing_config_);
     scans_2d_ = true;
-    const auto det = pipeline_->process(frame.stamp_s, people::scan_points_2d(frame.cloud));
+    auto det = pipeline_->process(frame.stamp_s, people::scan_points_2d(frame.cloud));
+    out.segments = std::move(det.segments);
     for (const auto& l : det.legs) out.legs.push_back(l.position_m);
     for (const auto& p : det.people) {
       out.persons.push_back(p.position_m);

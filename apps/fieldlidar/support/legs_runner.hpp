@@ -32,6 +32,8 @@ struct LegsRunOptions {
   /// 2D: LegPipeline2DConfig::occupied_leg_score_min / occupied_leg_evidence_min (empty: the
   /// defaults, tuned for the shipped classifier's score scale).
   std::vector<double> occupied_leg;
+  /// 2D: trace what became of every scan segment (FrameLegsPeople::segments).
+  bool trace_segments = false;
 };
 
 /// One frame's legs and reported persons (sensor frame, m) with the persons' track ids.
@@ -39,6 +41,8 @@ struct FrameLegsPeople {
   std::vector<Eigen::Vector2d> legs;
   std::vector<Eigen::Vector2d> persons;
   std::vector<std::int64_t> person_ids;
+  /// 2D with LegsRunOptions::trace_segments: every segment of the scan and what became of it.
+  std::vector<people::SegmentTrace> segments;
 };
 
 class LegsRunner {
