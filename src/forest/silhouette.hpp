@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <iterator>
 #include <limits>
 #include <span>
 #include <utility>
@@ -54,6 +55,27 @@ class RingIndex {
     if (it == r.begin()) return 1e30;
     --it;
     return it->first >= az - window ? it->second : 1e30;
+  }
+  /// Whether the beam of the column next to azimuth `az` (direction +1 or -1, columns `step`
+  /// apart) passed a stem whose edge return lies at az: it returned farther than `far_m`, or
+  /// nothing at all (sky, out of range) unless a return nearer than far_m follows at once (a
+  /// beam lost at the grazing edge of the stem beside an occluder). A return nearer than far_m
+  /// (an occluder, the stem itself taken for ground, a shrub against it) leaves the edge open.
+  bool passed_beside(int ring, double az, int direction, double step, double far_m) const {
+    if (ring < 0 || std::size_t(ring) >= rings_.size() || !(step > 0)) return false;
+    const auto& r = rings_[ring];
+    const double eps = 1e-7;
+    // The first return beyond az: its angle from az and its range (none: angle 1e30).
+    double angle = 1e30, range = 0.0;
+    if (direction > 0) {
+      auto it = std::upper_bound(r.begin(), r.end(), std::make_pair(az + eps, 1e30));
+      if (it != r.end()) angle = it->first - az, range = it->second;
+    } else {
+      auto it = std::lower_bound(r.begin(), r.end(), std::make_pair(az - eps, -1e30));
+      if (it != r.begin()) angle = az - std::prev(it)->first, range = std::prev(it)->second;
+    }
+    if (angle <= 1.5 * step) return range > far_m;
+    return !(angle <= 2.5 * step && range <= far_m);
   }
 
  private:
