@@ -14,8 +14,6 @@
 namespace fieldlidar::app {
 namespace {
 
-namespace fs = std::filesystem;
-
 // Height of each point above the ground: the lowest ground return of its 1 m cell (or of the
 // nearest cells around it); NaN where no ground is near.
 std::vector<float> height_above_ground(const PointCloud& cloud,
@@ -82,7 +80,8 @@ std::string trees_geojson(const std::vector<forest::Tree>& trees, const Eigen::V
 }
 
 void draw_trees(const PointCloud& cloud, const std::vector<std::uint8_t>& ground,
-                const std::vector<forest::Tree>& trees, const fs::path& path, bool force) {
+                const std::vector<forest::Tree>& trees, const std::filesystem::path& path,
+                bool force) {
   const Bounds3 b = compute_bounds(cloud);
   if (b.empty()) return;
   TopDownCanvas canvas(b.min.head<2>(), b.max.head<2>());
@@ -108,7 +107,8 @@ void draw_trees(const PointCloud& cloud, const std::vector<std::uint8_t>& ground
 }
 
 void draw_trunk_map(const std::vector<forest::Tree>& trees,
-                    const std::vector<Eigen::Vector3d>& path, const fs::path& file, bool force) {
+                    const std::vector<Eigen::Vector3d>& path, const std::filesystem::path& file,
+                    bool force) {
   Eigen::Vector2d lo(1e30, 1e30), hi(-1e30, -1e30);
   for (const auto& p : path) lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
   for (const auto& t : trees) {

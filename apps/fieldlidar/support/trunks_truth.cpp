@@ -12,9 +12,8 @@
 
 namespace fieldlidar::app {
 
-namespace fs = std::filesystem;
-
-std::vector<TrueTree> read_true_trees(const fs::path& path, const Pose& T_frame_world) {
+std::vector<TrueTree> read_true_trees(const std::filesystem::path& path,
+                                      const Pose& T_frame_world) {
   const auto bytes = io::read_file_bytes(path);
   const std::string text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   std::vector<TrueTree> out;
