@@ -79,7 +79,8 @@ bool bridges(const PointCloud& cloud, const std::vector<std::pair<double, std::u
     if (inner > outer) return false;
   }
   for (std::size_t k = a_last + 1; k <= b_first; ++k) {
-    if (order[k].first - order[k - 1].first > max_gap) return false;
+    if (std::remainder(order[k].first - order[k - 1].first, 2 * std::numbers::pi) > max_gap)
+      return false;
     if (k < b_first &&
         horizontal_range(cloud.points[order[k].second]) > std::min(ra, rb) - c.occluder_gap_m)
       return false;
@@ -96,17 +97,27 @@ void segment_ring(const PointCloud& cloud, int ring, std::vector<std::uint32_t>&
   for (auto i : idx) order.emplace_back(std::atan2(cloud.points[i].y, cloud.points[i].x), i);
   std::sort(order.begin(), order.end());
   const double max_gap = c.max_azimuth_gap_deg * std::numbers::pi / 180.0;
+  // Whether neighbours j, k (k after j, across -pi/pi when k is first) are cut apart.
+  const auto cut_between = [&](std::size_t j, std::size_t k) {
+    const auto& a = cloud.points[order[j].second];
+    const auto& b = cloud.points[order[k].second];
+    double gap = order[k].first - order[j].first;
+    if (gap < 0) gap += 2 * std::numbers::pi;
+    const double limit = c.max_point_gap_m + c.point_gap_per_m * std::hypot(a.x, a.y);
+    return gap > max_gap || (a.xyz() - b.xyz()).norm() > limit;
+  };
+  // A full turn has no start: a stem behind the sensor lies across -pi/pi. The runs start at
+  // the first cut, the last one running on across -pi/pi.
+  if (order.size() > 2 && !cut_between(order.size() - 1, 0)) {
+    std::size_t first = 1;
+    while (first < order.size() && !cut_between(first - 1, first)) ++first;
+    if (first < order.size())
+      std::rotate(order.begin(), order.begin() + std::ptrdiff_t(first), order.end());
+  }
   // Runs as [first, last] positions in `order`.
   std::vector<std::pair<std::size_t, std::size_t>> runs;
   for (std::size_t k = 0; k < order.size(); ++k) {
-    bool cut = k == 0;
-    if (k > 0) {
-      const auto& a = cloud.points[order[k - 1].second];
-      const auto& b = cloud.points[order[k].second];
-      const double gap = order[k].first - order[k - 1].first;
-      const double limit = c.max_point_gap_m + c.point_gap_per_m * std::hypot(a.x, a.y);
-      cut = gap > max_gap || (a.xyz() - b.xyz()).norm() > limit;
-    }
+    const bool cut = k == 0 || cut_between(k - 1, k);
     if (cut)
       runs.emplace_back(k, k);
     else

@@ -1,6 +1,9 @@
-// Radius from a stem's silhouette seen from the sensor (at the origin of a sweep): on each scan
-// line, the angle between its outermost returns plus one azimuth step, and r = D sin(angle / 2)
-// at the axis distance D. Range noise does not enter it as it does a fit to a partial arc.
+// Radius from a stem's silhouette seen from the sensor (at the origin of a sweep). The edges of
+// what each scan line sees, fitted as two straight lines across the lines (edge_fit), pin the
+// width to a fraction of the azimuth step where the lines cross the stem at varied phases of it;
+// r = D sin(width / 2) at the axis distance D. Range noise does not enter it as it does a fit
+// to a partial arc. A stem whose edges are open on too many lines (an occluder beside it) falls
+// back on the per-line widths: the angle between a line's outermost returns plus one step.
 #include "silhouette.hpp"
 
 #include <algorithm>
@@ -8,7 +11,22 @@
 #include <limits>
 #include <numbers>
 
+#include "edge_fit.hpp"
+
 namespace fieldlidar::forest {
+namespace {
+
+// A tilted stem's horizontal section is an ellipse: seen across the line of sight its half-width
+// is r sqrt(1 + s^2), s the axis' slope across that line (tan of the lean in that plane).
+double lean_factor(const Cylinder& axis, double min_slope) {
+  const Eigen::Vector3d& a = axis.direction;
+  const Eigen::Vector2d across(-axis.point.y(), axis.point.x());
+  if (!(across.norm() > 0) || !(a.z() > 0)) return 1.0;
+  const double s = across.normalized().dot(a.head<2>()) / a.z();
+  return std::abs(s) < min_slope ? 1.0 : std::sqrt(1 + s * s);
+}
+
+}  // namespace
 
 SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const ScanSegment> segments,
                                    const RingIndex& rings, std::span<const std::size_t> segment_ids,
@@ -16,15 +34,21 @@ SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const Scan
   SilhouetteRadius out;
   out.radius_m = std::numeric_limits<double>::quiet_NaN();
   const Eigen::Vector3d a = axis.direction;
+  const double lean = lean_factor(axis, c.min_lean_slope);
+  // The width is wanted at breast height: azimuths from the axis bearing there.
+  const double z0 = base_z + c.dbh_height_m;
+  const Eigen::Vector3d on0 = axis.point + a * ((z0 - axis.point.z()) / a.z());
+  const double bearing0 = std::atan2(on0.y(), on0.x()), dist0 = on0.head<2>().norm() / lean;
   // Each line: the two edges of what it sees, as angles from the axis bearing.
   std::vector<double> measured, bounds, guesses;
+  std::vector<EdgeLine> edges;
   for (auto s : segment_ids) {
     const auto& seg = segments[s];
     const double step = rings.step(seg.line);
     if (std::abs(seg.centroid.z() - base_z - c.dbh_height_m) > c.dbh_window_m || step <= 0)
       continue;
     const Eigen::Vector3d on = axis.point + a * ((seg.centroid.z() - axis.point.z()) / a.z());
-    const double bearing = std::atan2(on.y(), on.x()), dist = on.head<2>().norm();
+    const double bearing = std::atan2(on.y(), on.x()), dist = on.head<2>().norm() / lean;
     double lo = 1e30, hi = -1e30, range = 1e30;
     for (auto i : seg.indices) {
       const auto& p = cloud.points[i];
@@ -37,6 +61,18 @@ SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const Scan
     const double window = 2.5 * step, nearer = range - c.occluder_gap_m;
     const bool lo_hidden = rings.beside(seg.line, bearing + lo, -1, window) < nearer;
     const bool hi_hidden = rings.beside(seg.line, bearing + hi, +1, window) < nearer;
+    // For the edge fit an edge is closed only when the next column's beam passed behind the
+    // whole stem (its far side lies at most a radius behind the nearest return).
+    {
+      const double shift = std::remainder(bearing - bearing0, 2 * std::numbers::pi);
+      const double far = range + axis.radius_m + c.edge_clear_m;
+      EdgeLine e{seg.centroid.z() - z0, lo + shift, hi + shift};
+      if (rings.passed_beside(seg.line, bearing + lo, -1, step, far))
+        e.lo_out_rad = e.lo_rad - step;
+      if (rings.passed_beside(seg.line, bearing + hi, +1, step, far))
+        e.hi_out_rad = e.hi_rad + step;
+      edges.push_back(e);
+    }
     if (lo_hidden && hi_hidden) continue;
     if (!lo_hidden && !hi_hidden) {
       measured.push_back(dist * std::sin((hi - lo + step) / 2));
@@ -50,6 +86,20 @@ SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const Scan
     const double half = dist * std::sin((lo_hidden ? hi : -lo) + step / 2);
     guesses.push_back(half);
     if ((lo_hidden ? -lo : hi) >= step) measured.push_back(half);
+  }
+  // Both edges closed on enough lines: the edge fit. The slope of the edges is bounded by a
+  // lean of 45 degrees across the line of sight.
+  const auto closed = [&](auto side) {
+    return std::size_t(std::count_if(edges.begin(), edges.end(), side));
+  };
+  if (closed([](const EdgeLine& e) { return e.lo_out_rad > -1e29; }) >= c.min_silhouette_lines &&
+      closed([](const EdgeLine& e) { return e.hi_out_rad < 1e29; }) >= c.min_silhouette_lines) {
+    const EdgeWidth w = fit_edge_width(edges, 1.0 / std::max(dist0, 1.0));
+    if (w.ok) {
+      out.radius_m = dist0 * std::sin(w.width_rad / 2);
+      out.lines = edges.size();
+      return out;
+    }
   }
   if (!bounds.empty()) {
     // The second widest: one line widened by a branch beside the occluder bounds nothing.

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <iterator>
 #include <limits>
+#include <numbers>
 #include <span>
 #include <utility>
 #include <vector>
@@ -43,20 +45,47 @@ class RingIndex {
   /// Range of the nearest return beyond azimuth `az` (direction +1 or -1) within `window` rad;
   /// +inf when there is none (a free line of sight).
   double beside(int ring, double az, int direction, double window) const {
-    if (ring < 0 || std::size_t(ring) >= rings_.size()) return 1e30;
-    const auto& r = rings_[ring];
-    const double eps = 1e-7;
-    if (direction > 0) {
-      auto it = std::upper_bound(r.begin(), r.end(), std::make_pair(az + eps, 1e30));
-      return (it != r.end() && it->first <= az + window) ? it->second : 1e30;
-    }
-    auto it = std::lower_bound(r.begin(), r.end(), std::make_pair(az - eps, -1e30));
-    if (it == r.begin()) return 1e30;
-    --it;
-    return it->first >= az - window ? it->second : 1e30;
+    double angle = 0, range = 0;
+    if (!next_beyond(ring, az, direction, angle, range)) return 1e30;
+    return angle <= window ? range : 1e30;
+  }
+  /// Whether the beam of the column next to azimuth `az` (direction +1 or -1, columns `step`
+  /// apart) passed a stem whose edge return lies at az: it returned farther than `far_m`, or
+  /// nothing at all (sky, out of range) unless a return nearer than far_m follows at once (a
+  /// beam lost at the grazing edge of the stem beside an occluder). A return nearer than far_m
+  /// (an occluder, the stem itself taken for ground, a shrub against it) leaves the edge open.
+  bool passed_beside(int ring, double az, int direction, double step, double far_m) const {
+    double angle = 1e30, range = 0.0;  // the first return beyond az (none: angle 1e30)
+    if (!(step > 0)) return false;
+    next_beyond(ring, az, direction, angle, range);
+    if (angle <= 1.5 * step) return range > far_m;
+    return !(angle <= 2.5 * step && range <= far_m);
   }
 
  private:
+  // The first return of `ring` beyond azimuth az (direction +1 or -1), round the full turn: its
+  // angle from az (0, 2 pi) and its range. False when the ring holds none.
+  bool next_beyond(int ring, double az, int direction, double& angle, double& range) const {
+    if (ring < 0 || std::size_t(ring) >= rings_.size() || rings_[ring].empty()) return false;
+    const auto& r = rings_[ring];
+    const double eps = 1e-7, turn = 2 * std::numbers::pi;
+    az = std::remainder(az, turn);
+    if (direction > 0) {
+      auto it = std::upper_bound(r.begin(), r.end(), std::make_pair(az + eps, 1e30));
+      if (it == r.end()) it = r.begin();
+      angle = it->first - az;
+      range = it->second;
+    } else {
+      auto it = std::lower_bound(r.begin(), r.end(), std::make_pair(az - eps, -1e30));
+      if (it == r.begin()) it = r.end();
+      --it;
+      angle = az - it->first;
+      range = it->second;
+    }
+    if (angle <= 0) angle += turn;
+    return true;
+  }
+
   std::vector<std::vector<std::pair<double, double>>> rings_;
   std::vector<double> steps_;
 };

@@ -156,17 +156,25 @@ struct TreeConfig {
   double merge_distance_m = 0.3;  ///< stacks whose axes pass this close at DBH are one tree
   double join_distance_m = 0.15;  ///< a stack lying on another's axis (a break) joins it
   CylinderFitConfig cylinder;     ///< radius bounds are taken from min/max_radius_m
-  /// A sweep (rings, sensor at the origin): DBH from the stem's silhouette (angle between the
-  /// outermost returns of each scan line plus one azimuth step, mean of the middle half of the
-  /// lines near breast height), which range noise does not bias as it does a fit to a partial
-  /// arc, and the axis placed on the line of sight at the returns' mean range plus pi/4 of that
-  /// radius. A line with one edge hidden by a nearer return measures only when what it sees
-  /// reaches a step past the axis bearing; otherwise it bounds the width from below. A stem with
-  /// fewer measuring lines is dropped, or, when occluded lines saw it, kept with dbh_uncertain.
-  /// Plot files always use the fit.
+  /// A sweep (rings, sensor at the origin): DBH from the stem's silhouette, which range noise
+  /// does not bias as it does a fit to a partial arc, and the axis placed on the line of sight
+  /// at the returns' mean range plus pi/4 of that radius. The silhouette's two edges over the
+  /// lines near breast height are fitted as straight lines through each line's column interval
+  /// (between its outermost return and the next column, whose beam passed behind the stem by
+  /// edge_clear_m): lines crossing the stem at varied phases of the azimuth step pin the width
+  /// to a fraction of a step. With either edge closed on fewer than min_silhouette_lines lines
+  /// (an occluder beside it), the per-line widths: angle between the outermost returns plus one
+  /// step, mean of the middle half; a line with one edge hidden by a nearer return measures
+  /// only when what it sees reaches a step past the axis bearing, otherwise it bounds the width
+  /// from below. A stem with fewer measuring lines is dropped, or, when occluded lines saw it,
+  /// kept with dbh_uncertain. Plot files always use the fit.
   bool silhouette_dbh = true;
   std::size_t min_silhouette_lines = 2;
   double occluder_gap_m = 0.3;  ///< a return beside a stem's edge this much nearer hides it
+  double edge_clear_m = 0.1;    ///< beyond the stem's far side (nearest return + fitted radius)
+  /// A stem leaning across the line of sight by more than this slope (tan of the lean) is seen
+  /// wider by sqrt(1 + slope^2), which is divided out; a smaller fitted lean is the fit's noise.
+  double min_lean_slope = 0.1;
 };
 
 /// One tree: straight trunk from its base on the ground.

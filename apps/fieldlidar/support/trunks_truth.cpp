@@ -1,0 +1,100 @@
+// The simulator's trees.csv read as true trees, and detection scores of `fieldlidar trunks`.
+#include "support/trunks_truth.hpp"
+
+#include <cmath>
+#include <exception>
+#include <string>
+
+#include <fmt/core.h>
+
+#include "fieldlidar/core/error.hpp"
+#include "fieldlidar/io/file_util.hpp"
+
+namespace fieldlidar::app {
+
+std::vector<TrueTree> read_true_trees(const std::filesystem::path& path,
+                                      const Pose& T_frame_world) {
+  const auto bytes = io::read_file_bytes(path);
+  const std::string text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  std::vector<TrueTree> out;
+  std::size_t pos = text.find('\n'), line = 1;
+  while (pos != std::string::npos && pos + 1 < text.size()) {
+    const std::size_t end = text.find('\n', pos + 1);
+    const std::string row = text.substr(pos + 1, end - pos - 1);
+    pos = end;
+    ++line;
+    if (row.empty()) continue;
+    std::vector<double> v;
+    std::size_t a = 0;
+    try {
+      while (a <= row.size() && v.size() < 8) {
+        const std::size_t b = row.find(',', a);
+        v.push_back(std::stod(row.substr(a, b - a)));
+        if (b == std::string::npos) break;
+        a = b + 1;
+      }
+    } catch (const std::exception&) {
+      throw Error(fmt::format("{}: line {}: not a number", path.string(), line));
+    }
+    if (v.size() < 8)
+      throw Error(
+          fmt::format("{}: line {}: expected id,base_x_m,base_y_m,base_z_m,axis_x,axis_y,"
+                      "axis_z,dbh_m,...",
+                      path.string(), line));
+    const Eigen::Vector3d base(v[1], v[2], v[3]), axis = Eigen::Vector3d(v[4], v[5], v[6]);
+    if (!(axis.z() > 0.1)) throw Error(fmt::format("{}: line {}: axis_z", path.string(), line));
+    out.push_back(
+        {T_frame_world * (base + axis.normalized() * (1.3 / axis.normalized().z())), v[7]});
+  }
+  return out;
+}
+
+void print_trunk_scores(const std::vector<forest::Tree>& trees, const std::vector<TrueTree>& truth,
+                        const std::vector<Eigen::Vector3d>& path) {
+  auto near_path = [&](const Eigen::Vector3d& p, double r) {
+    if (path.empty()) return true;
+    for (const auto& q : path)
+      if ((q - p).head<2>().norm() <= r) return true;
+    return false;
+  };
+  std::vector<char> used(truth.size(), 0);
+  int scored = 0, detected = 0, matched = 0, uncertain = 0;
+  double dbh_sq = 0, dbh_sum = 0, pos_sq = 0;
+  for (const auto& t : truth) scored += near_path(t.at_dbh, 10.0);
+  for (const auto& d : trees) {
+    const Eigen::Vector3d p = d.at_height(1.3);
+    if (!near_path(p, 10.5)) continue;
+    std::size_t best = truth.size();
+    double bd = 0.3;
+    for (std::size_t k = 0; k < truth.size(); ++k)
+      if (!used[k] && (truth[k].at_dbh - p).head<2>().norm() < bd) {
+        bd = (truth[k].at_dbh - p).head<2>().norm();
+        best = k;
+      }
+    if (best < truth.size() && !near_path(truth[best].at_dbh, 10.0)) {
+      used[best] = 1;
+      continue;
+    }
+    ++detected;
+    if (best == truth.size()) continue;
+    used[best] = 1;
+    ++matched;
+    pos_sq += bd * bd;
+    if (d.dbh_uncertain) {
+      ++uncertain;
+      continue;
+    }
+    dbh_sq += std::pow(d.dbh_m - truth[best].dbh_m, 2);
+    dbh_sum += d.dbh_m - truth[best].dbh_m;
+  }
+  const double m = std::max(matched, 1), md = std::max(matched - uncertain, 1);
+  fmt::print(
+      "truth: {} trees{}, {} detected, {} matched: precision {:.3f}, recall {:.3f}, DBH RMSE "
+      "{:.4f} m, bias {:+.4f} m (over {} with a measured DBH; {} marked uncertain), position "
+      "RMSE {:.4f} m\n",
+      scored, path.empty() ? "" : " within 10 m of the path", detected, matched,
+      detected ? double(matched) / detected : 1.0, scored ? double(matched) / scored : 1.0,
+      std::sqrt(dbh_sq / md), dbh_sum / md, matched - uncertain, uncertain, std::sqrt(pos_sq / m));
+}
+
+}  // namespace fieldlidar::app

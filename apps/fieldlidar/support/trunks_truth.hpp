@@ -1,0 +1,30 @@
+#pragma once
+// `fieldlidar trunks --truth`: the simulator's trees.csv and detection scores against it.
+
+#include <filesystem>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fieldlidar/core/pose.hpp"
+#include "fieldlidar/forest/trunks.hpp"
+
+namespace fieldlidar::app {
+
+/// A true tree of the simulator's trees.csv: axis point at 1.3 m and DBH.
+struct TrueTree {
+  Eigen::Vector3d at_dbh;
+  double dbh_m;
+};
+
+/// The rows of a simulator trees.csv (id,base_x_m,base_y_m,base_z_m,axis_x,axis_y,axis_z,dbh_m,
+/// ...), moved by `T_frame_world`; a row that is not numbers raises Error naming file and line.
+std::vector<TrueTree> read_true_trees(const std::filesystem::path& path, const Pose& T_frame_world);
+
+/// Prints detection scores of `trees` against the truth; with a path, only trees within 10 m of
+/// it count (and detections farther than 10.5 m are not scored). A match lies within 0.3 m at
+/// 1.3 m.
+void print_trunk_scores(const std::vector<forest::Tree>& trees, const std::vector<TrueTree>& truth,
+                        const std::vector<Eigen::Vector3d>& path);
+
+}  // namespace fieldlidar::app
