@@ -84,8 +84,11 @@ TrajectoryErrors run_kitti(int first, int last, int step, const OdometryConfig& 
 }
 
 void report(const char* what, const TrajectoryErrors& e) {
-  std::printf("%-28s path %.2f m  drift %.2f %%  RPE %.2f cm / %.3f deg  ATE %.3f m\n", what,
-              e.path_m, e.drift_pct, 100 * e.rpe_t_m, e.rpe_r_deg, e.ate_m);
+  std::printf(
+      "%-28s path %.3f of %.2f m (%.4f)  drift %.2f %%  RPE %.2f cm / %.3f deg  ATE %.3f m "
+      "(Sim3 %.3f m)\n",
+      what, e.est_path_m, e.path_m, e.est_path_m / e.path_m, e.drift_pct, 100 * e.rpe_t_m,
+      e.rpe_r_deg, e.ate_se3_m, e.ate_sim3_m);
 }
 
 TEST(OdometryKitti, DISABLED_Report) {
