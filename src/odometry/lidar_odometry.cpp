@@ -114,6 +114,7 @@ OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
   const bool first_velocity = initialised_ && !velocity_known_;
   if (initialised_) {
     const double dt = cloud.stamp_s - last_stamp_s_;
+    if (velocity_known_) T_prev_delta_ = T_last_delta_, prev_period_s_ = last_period_s_;
     T_last_delta_ = T_world_ref_.inverse() * T_world_ref;
     last_period_s_ = dt > 0 ? dt : config_.expected_period_s;
     velocity_known_ = true;

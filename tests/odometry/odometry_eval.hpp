@@ -193,6 +193,7 @@ inline void apply_env(OdometryConfig& c) {
   if (std::getenv("NODESKEW")) c.deskew.enabled = false;
   if (std::getenv("CVDESKEW")) c.deskew.constant_velocity = true;
   if (std::getenv("NOMID")) c.deskew.mid_sweep_reference = false;
+  if (std::getenv("LASTVEL")) c.deskew.velocity_from_two_sweeps = false;
   if (std::getenv("GROUND")) c.preprocess.split_ground = true;
   if (std::getenv("CLUSTERS")) c.preprocess.drop_small_clusters = true;
   if (std::getenv("ROBUSTGROUND")) c.preprocess.ground.method = segmentation::GroundMethod::kRobust;

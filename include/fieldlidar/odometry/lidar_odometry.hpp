@@ -133,6 +133,8 @@ class LidarOdometry {
   Pose T_world_lidar_ = Pose::Identity();  ///< at the last sweep's start
   Pose T_world_ref_ = Pose::Identity();    ///< at the last sweep's reference time (DeskewConfig)
   Pose T_last_delta_ = Pose::Identity();   ///< previous sweep-to-sweep motion
+  Pose T_prev_delta_ = Pose::Identity();   ///< the one before, over prev_period_s_
+  double prev_period_s_ = 0.0;             ///< 0: none yet
   double last_stamp_s_ = 0.0, last_period_s_ = 0.0;
   Eigen::Vector3d gravity_world_m_s2_ = Eigen::Vector3d(0, 0, 9.80665);
   std::size_t frames_ = 0;
