@@ -58,9 +58,11 @@ struct DeskewConfig {
   /// Where such a sweep starts (deg, counter-clockwise from +x; 180 = behind) and whether it
   /// turns clockwise seen from above. KITTI's HDL-64E files list each ring from the front
   /// (0 deg) counter-clockwise. On kitti_tracking0000 every start and sense (180 / 0 deg,
-  /// clockwise or not) de-skewed by the constant velocity gave a rotation RPE of 0.13-0.15 deg
-  /// per frame against 0.047 without times (translation 1.6-2.1 cm against 1.59): its sweeps
-  /// behave as already motion-compensated.
+  /// clockwise or not) de-skewed by the constant velocity gave a rotation RPE of 0.10-0.12 deg
+  /// per frame against 0.048 without times (translation 1.6-2.0 cm against 1.59). Simulated
+  /// HDL-64E sweeps at that speed de-skewed so gain when they are skewed (RPE as with IMU +
+  /// wheels) and lose when they are not (rotation RPE x 1.7-2.7): KITTI's behave as already
+  /// motion-compensated (test_odometry_hdl64_scale.cpp).
   double azimuth_start_deg = 180.0;
   bool azimuth_clockwise = true;
 };
