@@ -6,10 +6,13 @@
 // 2.9-3.4 cm and the path 0.986-0.992 of the truth's; without any de-skew 0.6-1.0 cm and
 // 1.001-1.003. Once the second sweep is registered (both skewed alike, so the motion between
 // them is right), the map is rebuilt from both sweeps de-skewed with that motion, each placed at
-// its reference pose. Only when the sweep's motion is large enough to matter (at least 0.1 m or
-// 0.5 deg per sweep): at the greenhouse robot's 0.05 m per sweep the skew stays under the range
-// noise, and the rebuilt map only changed that drive's figures in the noise (LiDAR only, 300
-// frames: drift 0.185 -> 0.206 %, ATE 6.8 -> 6.7 mm).
+// its reference pose (the ringing that remained came from the velocity itself: RPE 1.20 / 0.63 /
+// 1.50 cm, see DeskewConfig::velocity_from_two_sweeps). Only when the sweep's motion is large
+// enough to matter (at least 0.1 m or 0.5 deg per sweep): at the greenhouse robot's 0.05 m per
+// sweep the skew stays under the range noise, and the rebuilt map only changed that drive's figures
+// in the noise (LiDAR only, 300 frames: drift 0.185 -> 0.206 %, ATE 6.8 -> 6.7 mm).
+
+#include <numbers>
 
 #include "fieldlidar/odometry/lidar_odometry.hpp"
 
@@ -30,7 +33,7 @@ void LidarOdometry::rebuild_map_deskewed(const PointCloud& cloud) {
   // The motion over one sweep, as the next prediction carries it on (motion_prior.cpp).
   const double s = period / last_period_s_;
   const Eigen::AngleAxisd aa(T_last_delta_.linear());
-  constexpr double kMinStepM = 0.1, kMinTurnRad = 0.5 * 3.14159265358979 / 180;
+  constexpr double kMinStepM = 0.1, kMinTurnRad = 0.5 * std::numbers::pi / 180;
   if (s * T_last_delta_.translation().norm() < kMinStepM && s * aa.angle() < kMinTurnRad) return;
   Pose over_sweep = Pose::Identity();
   over_sweep.linear() = Eigen::AngleAxisd(aa.angle() * s, aa.axis()).toRotationMatrix();
