@@ -39,12 +39,17 @@ std::vector<float> point_times(const PointCloud& cloud, const DeskewConfig& conf
   if (cloud.fields.time) {
     for (std::size_t i = 0; i < cloud.size(); ++i) t[i] = cloud.points[i].time;
   } else if (config.azimuth_time_period_s > 0) {
-    // Clockwise from behind the sensor: azimuth +pi at t = 0, 0 at half the period, -pi at the end.
+    // From the start azimuth in the sense of rotation: clockwise from behind (the default),
+    // azimuth +pi at t = 0, 0 at half the period, -pi at the end.
     const double period = config.azimuth_time_period_s;
+    const double start = config.azimuth_start_deg * std::numbers::pi / 180;
+    const double two_pi = 2 * std::numbers::pi;
     for (std::size_t i = 0; i < cloud.size(); ++i) {
       const auto& p = cloud.points[i];
       const double az = std::atan2(double(p.y), double(p.x));
-      t[i] = float((std::numbers::pi - az) / (2 * std::numbers::pi) * period);
+      double d = std::fmod(config.azimuth_clockwise ? start - az : az - start, two_pi);
+      if (d < 0) d += two_pi;
+      t[i] = float(d / two_pi * period);
     }
   }
   return t;

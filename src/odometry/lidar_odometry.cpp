@@ -111,13 +111,26 @@ OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
   // Motion for the next prediction, between reference poses (they do not depend on the de-skew
   // velocity); the pose reported is the sweep start's.
   result.T_world_lidar = T_world_ref * T_start_ref.inverse();
+  const bool first_velocity = initialised_ && !velocity_known_;
   if (initialised_) {
     const double dt = cloud.stamp_s - last_stamp_s_;
+    if (velocity_known_) T_prev_delta_ = T_last_delta_, prev_period_s_ = last_period_s_;
     T_last_delta_ = T_world_ref_.inverse() * T_world_ref;
     last_period_s_ = dt > 0 ? dt : config_.expected_period_s;
+    velocity_known_ = true;
   }
   T_world_ref_ = T_world_ref;
   T_world_lidar_ = result.T_world_lidar;
+  if (first && config_.update_map && velocity_deskews(*raw)) {
+    first_sweep_ = *raw;
+    T_world_first_ = T_world_lidar_;
+  }
+  if (first_velocity && first_sweep_ && result.registered) {
+    t = Clock::now();
+    rebuild_map_deskewed(*raw);
+    result.timings.map_ms += ms_since(t);
+  }
+  if (first_velocity) first_sweep_.reset();
   if (!initialised_ || cloud.stamp_s > last_stamp_s_) last_stamp_s_ = cloud.stamp_s;
   initialised_ = true;
   ++frames_;

@@ -102,8 +102,13 @@ LidarOdometry::Prior LidarOdometry::predict(double stamp_s, std::vector<std::str
              last_period <= config_.deskew.constant_velocity_max_period_factor * period) {
     // Only from consecutive sweeps: a velocity averaged over a longer gap (frames dropped, a
     // 2 Hz recording) says little about the motion within this sweep.
-    prior.sweep =
-        SweepMotion::constant_velocity(scale_motion(T_last_delta_, period / last_period), period);
+    Pose over_sweep = scale_motion(T_last_delta_, period / last_period);
+    const double max_period = config_.deskew.constant_velocity_max_period_factor * period;
+    if (config_.deskew.velocity_from_two_sweeps && prev_period_s_ > 0 &&
+        prev_period_s_ <= max_period)
+      over_sweep =
+          interpolate(scale_motion(T_prev_delta_, period / prev_period_s_), over_sweep, 0.5);
+    prior.sweep = SweepMotion::constant_velocity(over_sweep, period);
     prior.sweep_from_velocity = true;
   }
   return prior;

@@ -88,12 +88,15 @@ inline SimSequence simulate_yaw_sweep(sim::SceneKind kind, int frames, int frame
 }
 
 struct TrajectoryErrors {
-  double ate_m = 0;      ///< RMSE after rigid alignment
-  double rpe_t_m = 0;    ///< RMS per-frame translation error
-  double rpe_r_deg = 0;  ///< RMS per-frame rotation error
-  double drift_pct = 0;  ///< mean translation error / length over segments
-  double path_m = 0;
-  double scale = 1;  ///< reference / estimate of the similarity alignment
+  double ate_m = 0;       ///< RMSE after rigid alignment
+  double rpe_t_m = 0;     ///< RMS per-frame translation error
+  double rpe_r_deg = 0;   ///< RMS per-frame rotation error
+  double drift_pct = 0;   ///< mean translation error / length over segments
+  double path_m = 0;      ///< reference path length
+  double est_path_m = 0;  ///< estimated path length
+  double ate_se3_m = 0;   ///< ATE RMSE after a rigid alignment
+  double ate_sim3_m = 0;  ///< ATE RMSE after a similarity alignment
+  double scale = 1;       ///< reference / estimate of the similarity alignment
 };
 
 inline double angle_deg(const Eigen::Matrix3d& R) {
@@ -119,6 +122,9 @@ inline TrajectoryErrors trajectory_errors(const std::vector<Pose>& est,
   out.rpe_r_deg = m.rpe.rotation_deg.rmse;
   out.drift_pct = m.drift.translation_pct;
   out.path_m = m.reference_path_m;
+  out.est_path_m = m.estimate_path_m;
+  out.ate_se3_m = m.ate_se3.translation_m.rmse;
+  out.ate_sim3_m = m.ate_sim3.translation_m.rmse;
   out.scale = m.ate_sim3.alignment.scale;
   return out;
 }
@@ -174,9 +180,20 @@ inline void apply_env(OdometryConfig& c) {
   num("NEIGHDIST", c.map.max_neighbour_distance_m);
   num("PLANEDIST", c.map.max_plane_distance_m);
   num("AZPERIOD", c.deskew.azimuth_time_period_s);
+  num("AZSTART", c.deskew.azimuth_start_deg);
+  if (std::getenv("AZCCW")) c.deskew.azimuth_clockwise = false;
+  num("ELEV", c.preprocess.elevation_correction_deg);
+  num("MINR", c.features.min_range_m);
+  num("MAXR", c.features.max_range_m);
+  num("MAPR", c.map.max_range_m);
+  num("OCCL", c.features.occlusion_ratio);
+  integer("FNEIGH", c.features.neighbours);
+  integer("SECTORS", c.features.sectors);
   if (std::getenv("HOLDDEGEN")) c.lm.hold_degenerate = true;
   if (std::getenv("NODESKEW")) c.deskew.enabled = false;
   if (std::getenv("CVDESKEW")) c.deskew.constant_velocity = true;
+  if (std::getenv("NOMID")) c.deskew.mid_sweep_reference = false;
+  if (std::getenv("LASTVEL")) c.deskew.velocity_from_two_sweeps = false;
   if (std::getenv("GROUND")) c.preprocess.split_ground = true;
   if (std::getenv("CLUSTERS")) c.preprocess.drop_small_clusters = true;
   if (std::getenv("ROBUSTGROUND")) c.preprocess.ground.method = segmentation::GroundMethod::kRobust;

@@ -118,6 +118,11 @@ class LidarOdometry {
   bool match_rounds(const LocalMap& map, const Features& features, Pose& T, OdometryResult& result,
                     double* first_fraction) const;
   void update_map(const Features& features, const Pose& T_world_lidar);
+  /// Whether the constant-velocity de-skew can move this sweep's points (it has times).
+  bool velocity_deskews(const PointCloud& cloud) const;
+  /// The first sweep-to-sweep velocity is known (the second sweep is registered): the map is
+  /// rebuilt from the first two sweeps de-skewed with it (deskew_restart.cpp).
+  void rebuild_map_deskewed(const PointCloud& cloud);
   void trim_streams(double before_s);
 
   SensorModel sensor_;
@@ -128,10 +133,17 @@ class LidarOdometry {
   Pose T_world_lidar_ = Pose::Identity();  ///< at the last sweep's start
   Pose T_world_ref_ = Pose::Identity();    ///< at the last sweep's reference time (DeskewConfig)
   Pose T_last_delta_ = Pose::Identity();   ///< previous sweep-to-sweep motion
+  Pose T_prev_delta_ = Pose::Identity();   ///< the one before, over prev_period_s_
+  double prev_period_s_ = 0.0;             ///< 0: none yet
   double last_stamp_s_ = 0.0, last_period_s_ = 0.0;
   Eigen::Vector3d gravity_world_m_s2_ = Eigen::Vector3d(0, 0, 9.80665);
   std::size_t frames_ = 0;
   bool initialised_ = false;
+  bool velocity_known_ = false;  ///< T_last_delta_ is a registered sweep-to-sweep motion
+  /// The first sweep (after the elevation correction) and its start pose, kept until the first
+  /// velocity is known when the constant-velocity de-skew applies.
+  std::optional<PointCloud> first_sweep_;
+  Pose T_world_first_ = Pose::Identity();
   bool streams_given_ = false;  ///< IMU or wheel samples were ever added
   /// Running mean of the fraction of features matched at the pose used (< 0: none yet).
   double typical_match_fraction_ = -1.0;
