@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 
 struct NavigateOptions {
   std::string scene = "terrain", start, goal, robot, pairs, out, pose_source = "truth";
-  std::uint64_t seed = 0;
+  std::uint64_t seed = 0, noise_seed = loops::NavigateConfig{}.sim_seed;
   double max_time_s = 0, replan_period_s = loops::NavigateConfig{}.replan_period_s;
   double speed_m_s = loops::NavigateConfig{}.follower.max_speed_m_s;
   int seen_no_ground_points = loops::NavigateConfig{}.seen_no_ground_points;
@@ -118,6 +118,7 @@ void run(const NavigateOptions& o) {
   cfg.start_creep_m = o.start_creep_m;
   cfg.lidar_pitch_deg = o.lidar_pitch_deg;
   cfg.start_look_rad = o.start_look_rad;
+  cfg.sim_seed = o.noise_seed;
   const auto pose_source = loops::pose_source_from_string(o.pose_source);
   if (!pose_source)
     throw Error("--pose-source '" + o.pose_source + "': expected odometry or truth");
@@ -172,6 +173,7 @@ void run(const NavigateOptions& o) {
                               {"min_turn_radius_m", cfg.fusion.layers.robot.min_turn_radius_m}}}};
     extra["lidar_pitch_deg"] = cfg.lidar_pitch_deg;
     extra["start_look_rad"] = cfg.start_look_rad;
+    extra["noise_seed"] = cfg.sim_seed;
     if (!p.expect.empty()) extra["expected"] = p.expect;
     write_navigate_run(dir, r, extra,
                        fmt::format("fieldlidar navigate: terrain seed {}, {}: {} ({:.1f} m driven, "
@@ -208,6 +210,10 @@ void add_navigate_command(CLI::App& app) {
   cmd->add_option("--scene", o->scene, "Simulated scene (terrain, 60 x 40 m)")
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "Scene seed")
+      ->capture_default_str()
+      ->check(whole_in(0, 9223372036854775807LL));
+  cmd->add_option("--noise-seed", o->noise_seed,
+                  "Seed of the simulated sensor's range noise (the scene stays the --seed one)")
       ->capture_default_str()
       ->check(whole_in(0, 9223372036854775807LL));
   cmd->add_option("--start", o->start,

@@ -38,6 +38,23 @@ class Loop {
   void scan();
   std::string replan_trigger();
   void plan(const std::string& trigger);
+  /// Detour hold (NavigateConfig::detour_hold_ratio), before a plan for `trigger` is searched:
+  /// true when the held plan goes on (resumed, or still short of its hold point).
+  bool hold_before_plan(const std::string& trigger);
+  /// After a successful plan of `length_m`: true when the robot holds to the current plan
+  /// instead (the plan is recorded, not followed).
+  bool hold_instead_of(double length_m);
+  /// The rest of held_ from the sample nearest the robot: its index, the first blocked sample
+  /// after it (nullopt: none), and the length to that sample and to the end.
+  struct HeldRest {
+    std::size_t from = 0;
+    std::optional<std::size_t> blocked;
+    double to_block_m = 0, to_end_m = 0;
+  };
+  HeldRest held_rest() const;
+  /// The held plan from sample `from` up to hold_stop_m before sample `block` (the whole rest
+  /// when `block` is nullopt), to the follower; false when too little of it is left.
+  bool follow_held(std::size_t from, std::optional<std::size_t> block);
   /// The cold start's straight creep (NavigateConfig::start_creep_m) as the first plan; false
   /// when it is off or both lanes are blocked.
   bool start_creep();
@@ -77,6 +94,7 @@ class Loop {
   double looked_rad_ = 0;  ///< turned in place so far by the start look (start_look_rad)
   bool looking() const { return looked_rad_ < cfg_.start_look_rad; }
   std::string pending_;  ///< a re-plan asked for by the last control step
+  planning::Path held_;  ///< the plan held while a detour is put off (empty: none)
   int unreachable_votes_ = 0, planner_failures_ = 0, off_goal_plans_ = 0;
   NavigateState state_ = NavigateState::kPlanning;
 };

@@ -30,6 +30,7 @@ std::string Loop::replan_trigger() {
   if (looking()) return "";  // the first plan waits for the start look
   if (!pending_.empty()) return std::exchange(pending_, "");
   if (!follower_.has_path()) return map_updated_ ? (r_.plans.empty() ? "start" : "retry") : "";
+  if (!held_.empty() && map_updated_) return "hold";  // the hold looks again at every update
   if (map_updated_) {
     const std::size_t k = follower_.index();
     if (planning::first_blocked_sample(*check_map_, follower_.path(), k)) return "blocked";
@@ -74,6 +75,7 @@ bool Loop::start_creep() {
 void Loop::plan(const std::string& trigger) {
   if (trigger == "start" && r_.plans.empty() && start_creep()) return;
   creeping_ = false;
+  if (hold_before_plan(trigger)) return;
   const auto t0 = Clock::now();
   Grid2D grid = grid_;
   if (cfg_.shadow_radius_m > blind_radius_m_)
@@ -114,6 +116,7 @@ void Loop::plan(const std::string& trigger) {
                  p.search_ms, p.expansions};
   r_.plans.push_back(std::move(rec));
   if (r_.plans.size() > 1) ++r_.replans;
+  if (p.ok() && hold_instead_of(planning::path_length_m(r_.plans.back().path))) return;
   if (p.ok()) {
     step_costs_ = planning::path_step_costs(*check_map_, p.path, planner_cfg_.tau_weight,
                                             planner_cfg_.reverse_factor);

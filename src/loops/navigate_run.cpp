@@ -73,6 +73,8 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
         finish(NavigateOutcome::kArrived,
                fmt::format("at the goal: {:.2f} m, {:.2f} rad off", d, dyaw),
                NavigateState::kArrived);
+      } else if (held_.size() > 0) {  // at the hold point: look again (the detour, mostly)
+        pending_ = "hold";
       } else if (++off_goal_plans_ > 5) {
         finish(NavigateOutcome::kFailed,
                fmt::format("the plans end {:.2f} m, {:.2f} rad off the goal", d, dyaw),

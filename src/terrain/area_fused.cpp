@@ -17,6 +17,9 @@ Grid2D map_area_fused(const PointCloud& cloud, const FusionConfig& config,
   FusionConfig c = config;
   c.see_through_stride = 0;
   c.obstacle_height_from_plane = true;
+  // A survey's cells (3-5 m) are larger than the robot: the rise between two neighbours' mean
+  // ground spans metres and is a mean slope like the planes', so it takes their margin.
+  c.edge_slope_margin_deg = std::max(c.edge_slope_margin_deg, c.slope_margin_deg);
   c.min_own_plane_points = std::min(c.min_own_plane_points, survey_own_plane_points);
   TerrainMap map(c);
   ScanPoints area = area_points(cloud, c.layers);

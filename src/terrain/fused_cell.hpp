@@ -190,7 +190,23 @@ struct ScanCell {
   std::array<float, 2> ground_top = {-std::numeric_limits<float>::infinity(),
                                      -std::numeric_limits<float>::infinity()};
   bool seen_through = false;  ///< a ray crossed the cell's obstacle volume and ended beyond
+  /// This scan's ground returns relative to (the cell's centre x, y; the sensor's z).
+  PlaneSums scan_ground;
+  /// The plane of this scan's ground returns in the 3 x 3 cells round this one
+  /// (scan_ground_plane), worked out when a return first asks for it: z (relative to the
+  /// sensor) at the cell's centre and its rise over x and y; NaN: none (too few returns, or
+  /// steeper than the robot can climb).
+  bool plane_done = false;
+  float plane_z = std::numeric_limits<float>::quiet_NaN();
+  float plane_dzdx = 0.0f, plane_dzdy = 0.0f;
 };
+
+/// The ground under a return at (dx, dy) m from cell (x, y)'s centre of the scan's window (w x h
+/// cells) by the plane of this scan's ground returns in the 3 x 3 cells around it, z relative
+/// to the sensor: NaN when they hold fewer than min_voxel_points returns or their plane is
+/// steeper than the robot's max_slope_deg (a face or a wall: no ground to measure from).
+double scan_ground_plane_z(std::span<ScanCell> local, int x, int y, int w, int h, double dx,
+                           double dy, const FusionConfig& config);
 
 /// The cells of the scan's window (w x h from cell index lo) that hold obstacle evidence and that
 /// a return's ray (every `stride`-th, from sensor_m) crossed between min_obstacle_height and the

@@ -190,9 +190,12 @@ void derive_cell(const CellBlock& store, int ix, int iy, int half, const FusionC
   const bool own_plane = cell->ground.n >= config.min_own_plane_points;
   const Eigen::Vector3d normal = own_plane ? own_normal(*cell) : window_normal;
   const double rho = slope_deg(normal);
+  // The planes give a mean slope and need the margin; the rise between two neighbours' mean
+  // ground is already the local steepest and is held to its own margin.
+  const double window_rho = slope_deg(window_normal);
   const bool too_steep =
-      std::max({rho, slope_deg(window_normal), edge_slope_deg(store, ix, iy, config)}) >
-      c.robot.max_slope_deg - config.slope_margin_deg;
+      std::max(rho, window_rho) > c.robot.max_slope_deg - config.slope_margin_deg ||
+      edge_slope_deg(store, ix, iy, config) > c.robot.max_slope_deg - config.edge_slope_margin_deg;
 
   // Step over the window about the window's plane; roughness of the cell's own returns.
   double lo = 0, hi = 0, rough = 0, top = 0;
@@ -232,7 +235,9 @@ void derive_cell(const CellBlock& store, int ix, int iy, int half, const FusionC
   L[kNx] = float(normal.x());
   L[kNy] = float(normal.y());
   L[kNz] = float(normal.z());
-  L[kSlope] = float(rho);  // a blocked cell's is set below
+  // The steeper of the two planes: the truth a robot tips on is the steepest ground in the cell,
+  // and either plane is a mean (a blocked cell's slope is set below).
+  L[kSlope] = float(config.slope_from_steeper_plane ? std::max(rho, window_rho) : rho);
   L[kRough] = float(rough);
   L[kRoughSum] = float(rough * cell->ground.n);
   L[kStep] = float(step);

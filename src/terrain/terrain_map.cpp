@@ -140,6 +140,7 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
     ++s.ground;
     ++u.ground_points;
     s.low_ground = std::min(s.low_ground, float(p.z()));
+    s.scan_ground.add({p.x() - (ix + 0.5) * cm, p.y() - (iy + 0.5) * cm, p.z() - sensor_m.z()});
     FusedCell& cell = *s.cell;
     if (std::isnan(cell.z_ref)) cell.z_ref = float(p.z());
     cell.ground.add({p.x() - (ix + 0.5) * cm, p.y() - (iy + 0.5) * cm, p.z() - cell.z_ref});
@@ -173,6 +174,14 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
           for (int dx = -1; dx <= 1; ++dx)
             if (const FusedCell* q = impl_->store.find(lo.x() + x + dx, lo.y() + y + dy))
               base = std::fmin(base, q->layers[detail::kElev]);
+    }
+    if (f.obstacle_height_from_scan_plane) {  // the local ground's slope lifts the base
+      const int x = cell_of[i].x() - lo.x(), y = cell_of[i].y() - lo.y();
+      const double plane =
+          scan_ground_plane_z(local, x, y, w, h, p.x() - (cell_of[i].x() + 0.5) * cm,
+                              p.y() - (cell_of[i].y() + 0.5) * cm, f) +
+          sensor_m.z();
+      if (std::isfinite(plane)) base = std::isfinite(base) ? std::max(base, plane) : plane;
     }
     if (!std::isfinite(base)) continue;
     const double above = p.z() - base;

@@ -100,6 +100,17 @@ struct NavigateConfig {
   double scan_period_s = 0.5;     ///< one sweep is mapped this often (the sensor spins at 10 Hz)
   double replan_period_s = 5.0;   ///< re-plan at least this often (s)
   double replan_cost_rise = 0.1;  ///< re-plan when the rest of the path costs this share more
+  /// Detour hold: when the map blocks the current plan more than hold_min_ahead_m ahead and
+  /// the new plan is longer than detour_hold_ratio times the rest of the current one, the robot
+  /// keeps to the current plan up to hold_stop_m before the blocked pose and re-plans on every
+  /// map update: the detour is taken once the block is still there that close (seen from near),
+  /// or once a plan no longer than that ratio is found; a block that clears resumes the plan.
+  /// A block seen from afar is often a few sparse returns that later sweeps clear (seed 0
+  /// round_hill: the passage east of the hill closed at 5 m and reopened 5 s later, after the
+  /// robot had turned back towards a 60 m detour). 0: off.
+  double detour_hold_ratio = 1.5;
+  double hold_stop_m = 1.5;
+  double hold_min_ahead_m = 3.0;
   /// A plan that runs out of time or expansions is tried once more with this many times both.
   double retry_budget_factor = 5.0;
   double goal_tolerance_m = 0.3;        ///< arrived: this close to the goal ...
@@ -135,7 +146,7 @@ struct PlanRecord {
   planning::Pose2 start;
   planning::PlanStatus status = planning::PlanStatus::kNoPath;
   std::string trigger;  ///< start_creep, start, creep_done, blocked, cost, period, safety_stop,
-                        ///< off_goal
+                        ///< off_goal, hold (the detour hold looking again)
   planning::Path path;
   double length_m = 0, search_ms = 0;
   int expansions = 0;
