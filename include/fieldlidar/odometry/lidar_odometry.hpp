@@ -114,6 +114,9 @@ class LidarOdometry {
   /// `matched` at the prior, and `all` (the unthinned selection) for a coarse re-alignment.
   void register_features(const Features& matched, const Features& all, const Pose& prior,
                          OdometryResult& result);
+  /// Fraction of the features that find a line / plane of `map` at T (match_rounds' first
+  /// round without its LM: the coarse re-alignment's test needs only this count).
+  static double match_fraction(const LocalMap& map, const Features& features, const Pose& T);
   /// Rounds of (correspondences, LM) against `map` from T; false when too few matches.
   bool match_rounds(const LocalMap& map, const Features& features, Pose& T, OdometryResult& result,
                     double* first_fraction) const;
