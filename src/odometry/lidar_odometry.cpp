@@ -98,7 +98,19 @@ OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
   t = Clock::now();
   const Pose prior_ref = prior.T_world_lidar * T_start_ref;
   result.T_world_lidar = prior_ref;
-  if (!map_.empty()) register_features(matched, features, prior_ref, result);
+  const Pose step = T_world_lidar_.inverse() * prior.T_world_lidar;
+  result.stationary =
+      initialised_ && config_.stationary_m > 0 &&
+      (prior.source == MotionSource::kImuWheels || prior.source == MotionSource::kWheels) &&
+      step.translation().norm() < config_.stationary_m &&
+      Eigen::AngleAxisd(step.linear()).angle() < config_.stationary_m;
+  if (result.stationary) {
+    // The last pose itself: the IMU's gyro bias would turn a standing robot slowly.
+    result.registered = true;
+    result.T_world_lidar = T_world_ref_;
+  } else if (!map_.empty()) {
+    register_features(matched, features, prior_ref, result);
+  }
   result.timings.match_ms = ms_since(t);
 
   // e. into the world frame: the map grows.
