@@ -74,6 +74,11 @@ inline void run_sequence(benchmark::State& state, const SensorModel& sensor,
   state.counters["features"] = double(last.edge_features + last.plane_features);
   state.counters["lm_steps"] = double(last.iterations);
   state.counters["matches"] = double(last.inliers);
+  state.counters["deskew_ms"] = last.timings.deskew_ms;
+  state.counters["pre_ms"] = last.timings.preprocess_ms;
+  state.counters["feat_ms"] = last.timings.features_ms;
+  state.counters["match_ms"] = last.timings.match_ms;
+  state.counters["map_ms"] = last.timings.map_ms;
 }
 
 }  // namespace fieldlidar::bench

@@ -57,8 +57,7 @@ std::vector<float> point_times(const PointCloud& cloud, const DeskewConfig& conf
 
 PointCloud deskew(const PointCloud& cloud, std::span<const float> times_s,
                   const SweepMotion& motion, double reference_s) {
-  PointCloud out = cloud;
-  if (motion.empty()) return out;
+  if (motion.empty()) return cloud;
   // Poses at a few fixed time steps, linear between them: the motion within a sweep is smooth.
   constexpr int kSteps = 32;
   const double t_end = std::max(motion.last_time_s(), 1e-6);
@@ -66,17 +65,28 @@ PointCloud deskew(const PointCloud& cloud, std::span<const float> times_s,
   std::vector<Eigen::Matrix<float, 3, 4>> table(kSteps + 1);
   for (int k = 0; k <= kSteps; ++k)
     table[k] = (T_ref_start * motion.at(t_end * k / kSteps)).matrix().topRows<3>().cast<float>();
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    auto& p = out.points[i];
-    if (!p.is_valid()) continue;
-    const float u = std::clamp(float(times_s[i] / t_end), 0.f, 1.f) * kSteps;
+  PointCloud out = cloud;
+  const std::size_t n = out.size();
+  for (std::size_t i = 0; i < n;) {
+    // A spinning sensor's points come column by column, often a whole column at one time: the
+    // blended pose is worked out once for a run of equal times.
+    const float time = times_s[i];
+    std::size_t end = i + 1;
+    while (end < n && times_s[end] == time) ++end;
+    const float u = std::clamp(float(time / t_end), 0.f, 1.f) * kSteps;
     const int k = std::min(int(u), kSteps - 1);
     const float w = u - float(k);
     const Eigen::Matrix<float, 3, 4> T = (1.f - w) * table[k] + w * table[k + 1];
-    const Eigen::Vector3f q = T.leftCols<3>() * p.xyz() + T.col(3);
-    p.x = q.x();
-    p.y = q.y();
-    p.z = q.z();
+    const Eigen::Matrix3f R = T.leftCols<3>();
+    const Eigen::Vector3f t = T.col(3);
+    for (; i < end; ++i) {
+      auto& p = out.points[i];
+      if (!p.is_valid()) continue;
+      const Eigen::Vector3f q = R * p.xyz() + t;
+      p.x = q.x();
+      p.y = q.y();
+      p.z = q.z();
+    }
   }
   return out;
 }

@@ -98,7 +98,19 @@ OdometryResult LidarOdometry::register_frame(const PointCloud& cloud) {
   t = Clock::now();
   const Pose prior_ref = prior.T_world_lidar * T_start_ref;
   result.T_world_lidar = prior_ref;
-  if (!map_.empty()) register_features(matched, features, prior_ref, result);
+  const Pose step = T_world_lidar_.inverse() * prior.T_world_lidar;
+  result.stationary =
+      initialised_ && config_.stationary_m > 0 &&
+      (prior.source == MotionSource::kImuWheels || prior.source == MotionSource::kWheels) &&
+      step.translation().norm() < config_.stationary_m &&
+      Eigen::AngleAxisd(step.linear()).angle() < config_.stationary_m;
+  if (result.stationary) {
+    // The last pose itself: the IMU's gyro bias would turn a standing robot slowly.
+    result.registered = true;
+    result.T_world_lidar = T_world_ref_;
+  } else if (!map_.empty()) {
+    register_features(matched, features, prior_ref, result);
+  }
   result.timings.match_ms = ms_since(t);
 
   // e. into the world frame: the map grows.
@@ -157,12 +169,8 @@ void LidarOdometry::register_features(const Features& matched, const Features& a
     // turns of the simulated handheld sweep, whose dense ground pulls the coarse alignment in.
     // The gain is counted against the fraction of them all at the prior; without one, the
     // thinned features' pose stands.
-    double all_fraction = first_fraction;
-    if (&matched != &all) {
-      Pose Ta = prior;
-      OdometryResult scratch;  // only the fraction at the prior is wanted
-      match_rounds(map_, all, Ta, scratch, &all_fraction);
-    }
+    const double all_fraction =
+        &matched != &all ? match_fraction(map_, all, prior) : first_fraction;
     LocalMapConfig cc = config_.map;
     cc.voxel_m = config_.coarse_voxel_m;
     cc.max_neighbour_distance_m = 0.5 * config_.coarse_voxel_m;
@@ -206,6 +214,17 @@ void LidarOdometry::register_features(const Features& matched, const Features& a
       typical_match_fraction_ < 0
           ? used_fraction
           : typical_match_fraction_ + 0.2 * (used_fraction - typical_match_fraction_);
+}
+
+double LidarOdometry::match_fraction(const LocalMap& map, const Features& features, const Pose& T) {
+  const std::size_t n = features.edges.size() + features.planes.size();
+  if (n == 0) return 0.0;
+  const Eigen::Matrix3f R = T.linear().cast<float>();
+  const Eigen::Vector3f tr = T.translation().cast<float>();
+  std::size_t found = 0;
+  for (const auto& p : features.edges) found += map.match_edge(R * p + tr).has_value();
+  for (const auto& p : features.planes) found += map.match_plane(R * p + tr).has_value();
+  return double(found) / double(n);
 }
 
 bool LidarOdometry::match_rounds(const LocalMap& map, const Features& features, Pose& T,

@@ -16,9 +16,16 @@ ClosedLoopResult run(Scenario s, PoseSource source = PoseSource::kOdometry) {
   const auto scene = sim::make_lawn_scene(lawn_config(s), 0);
   ClosedLoopConfig cfg;
   cfg.pose_source = source;
-  // FIELDLIDAR_FOLLOW_POSE_SOURCE=truth|odometry overrides the source to compare the two.
+  // FIELDLIDAR_FOLLOW_POSE_SOURCE=truth|odometry overrides the source to compare the two;
+  // FIELDLIDAR_FOLLOW_SIM_SEED the sensor noise seed and FIELDLIDAR_FOLLOW_PLANE_SPACING the
+  // odometry's FeatureConfig::match_plane_spacing_m, to see how much a run's outcome owes to
+  // chance.
   if (const char* src = std::getenv("FIELDLIDAR_FOLLOW_POSE_SOURCE"))
     if (auto p = pose_source_from_string(src)) cfg.pose_source = *p;
+  if (const char* v = std::getenv("FIELDLIDAR_FOLLOW_SIM_SEED"))
+    cfg.sim_seed = std::strtoull(v, nullptr, 10);
+  if (const char* v = std::getenv("FIELDLIDAR_FOLLOW_PLANE_SPACING"))
+    cfg.odometry.features.match_plane_spacing_m = std::atof(v);
   auto r = run_closed_loop(scene, SensorModel::vlp16(), cfg);
   std::printf(
       "%s (%s poses): frames %zu following %zu stopped_by_command %d duration %.1f s boundary "
@@ -69,6 +76,8 @@ TEST(ClosedLoop, DefaultLawnBoundaryMatchesTheWalkedLoop) {
 }
 
 // Odometry poses: boundary mean 0.027 m, Hausdorff 0.290 m (true poses: 0.019 m, 0.217 m).
+// Hausdorff over the sensor noise seeds 1-4: true poses 0.217, 0.272, 0.202, 0.266 m; odometry
+// poses 0.274, 0.339, 0.238, 0.221 m; planar matches thinned to 0.2 m 0.228, 0.238, 0.263, 0.264 m.
 TEST(ClosedLoop, CrossingPersonNeverTakesTheTargetId) {
   const auto r = run(Scenario::kCrossing);
   ASSERT_TRUE(r.first_target_id.has_value());
@@ -120,6 +129,14 @@ TEST(ClosedLoop, OperatorWalkingTooFastStopsTheMowerBeyondTheMaximumDistance) {
 // The operator's detour behind the shed hides them: the mower stops within one frame of the first
 // hidden sweep and moves again after re-detection. (After the detour the operator is farther than
 // L_m from the stopped mower and walks on, so by the seed's rule the lap is not completed.)
+// Fragile, whatever the pose source: the operator comes back into view about 5 m and 7 s from
+// where they were lost, beyond the tracker's re-acquisition (4 m, 6 s), so the target track never
+// takes them again; the mower moves again only when the coasting target track takes a false
+// detection near the shed corner (frames_target_off > 0) while the operator is in view. Over the
+// sensor noise seeds 1-4 (FIELDLIDAR_FOLLOW_SIM_SEED) the run resumed with true poses for 1, 2, 4
+// (not 3), with odometry poses for 1, 4, with planar matches thinned to 0.15 m
+// (FIELDLIDAR_FOLLOW_PLANE_SPACING) for 2 only and to 0.2 m for none, the odometry's error 3-9 cm
+// in all of them.
 TEST(ClosedLoop, OcclusionStopsTheMowerWithinOneFrameAndItResumes) {
   const auto r = run(Scenario::kOccluded);
   EXPECT_GE(r.occlusions, 1u);
