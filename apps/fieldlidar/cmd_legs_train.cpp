@@ -42,6 +42,7 @@ struct TrainOptions {
   bool force = false;
   bool classifier = true;
   int rounds = 200;
+  people::SegmentAugmentationConfig augment;  // off: measured not to help (README)
 };
 
 /// Simulated people: lawn sweeps from a still sensor with the operator and strollers walking.
@@ -82,7 +83,8 @@ constexpr double kFarFromLegM = 0.5;
 void collect(const std::string& bag, const std::string& topic,
              const std::vector<io::PoseArraySample>& truth, const people::LegDetectorConfig& base,
              double radius, std::vector<people::LabelledArc>& arcs, std::vector<double>& pairs,
-             std::size_t& scans, people::SegmentSamples& samples, bool annotated) {
+             std::size_t& scans, people::SegmentSamples& samples, bool annotated,
+             const people::SegmentAugmentationConfig& augment) {
   io::SourceOptions so;
   so.topic = topic;
   auto src = io::FrameSource::open(bag, so);
@@ -100,7 +102,7 @@ void collect(const std::string& bag, const std::string& topic,
     // used; the non-leg samples come from the people-free bags (every segment is one there).
     people::collect_segment_samples(pts, legs, base.range_min_m, base.range_max_m,
                                     base.segment_jump_m, radius, kFarFromLegM, samples,
-                                    /*negatives=*/!annotated);
+                                    /*negatives=*/!annotated, augment);
     const auto d = people::leg_pair_distances(legs);
     pairs.insert(pairs.end(), d.begin(), d.end());
   }
@@ -130,14 +132,15 @@ void run_train(const TrainOptions& o) {
   std::size_t pos_scans = 0, neg_scans = 0;
   for (const auto& bag : o.positive)
     collect(bag, o.scan_topic, io::read_pose_arrays(bag, o.truth_topic), base, o.match_radius_m,
-            arcs, pairs, pos_scans, samples, true);
+            arcs, pairs, pos_scans, samples, true, o.augment);
   for (const auto& bag : o.negative) {
     std::vector<std::string> topics = o.negative_topics;
     if (topics.empty())
       for (const auto& t : io::bag_topics(bag))
         if (t.datatype == "sensor_msgs/LaserScan") topics.push_back(t.name);
     for (const auto& t : topics)
-      collect(bag, t, {}, base, o.match_radius_m, arcs, pairs, neg_scans, samples, false);
+      collect(bag, t, {}, base, o.match_radius_m, arcs, pairs, neg_scans, samples, false,
+              o.augment);
   }
   if (sim3d) {
     const auto model = SensorModel::preset(o.sensor);
@@ -176,9 +179,16 @@ void run_train(const TrainOptions& o) {
     const auto model = people::train_leg_classifier(samples.features, samples.is_leg, bo);
     model_path = out.parent_path() / (out.stem().string() + "_classifier.yaml");
     io::check_writable(model_path, o.force);
-    model_yaml = fmt::format("# trained by fieldlidar legs-train on {} leg and {} other segments\n",
-                             model_legs, samples.is_leg.size() - model_legs) +
-                 people::to_yaml(model);
+    const auto& a = o.augment;
+    model_yaml =
+        fmt::format("# trained by fieldlidar legs-train on {} leg and {} other segments\n",
+                    model_legs, samples.is_leg.size() - model_legs) +
+        (a.copies > 0 ? fmt::format("# ({} re-seen copies per segment: range x {:g}..{:g}, width x "
+                                    "{:g}..{:g}, range noise {:g} m)\n",
+                                    a.copies, a.range_factor_min, a.range_factor_max,
+                                    a.width_factor_min, a.width_factor_max, a.range_noise_m)
+                      : std::string()) +
+        people::to_yaml(model);
     c.classifier_file = model_path.filename().string();
   }
   const std::string yaml =
@@ -242,6 +252,27 @@ void add_legs_train_command(CLI::App& app) {
   cmd->add_option("--rounds", o->rounds, "Boosting rounds of the leg classifier")
       ->capture_default_str()
       ->check(whole_in(1, 5000));
+  cmd->add_option("--augment", o->augment.copies,
+                  "2D classifier: copies of each training segment re-seen farther and narrower "
+                  "(0: none)")
+      ->capture_default_str()
+      ->check(whole_in(0, 20));
+  cmd->add_option("--augment-range", o->augment.range_factor_max,
+                  "Largest factor on a copy's range (drawn log-uniformly from 1)")
+      ->capture_default_str()
+      ->check(real_in(1, 10));
+  cmd->add_option("--augment-max-range", o->augment.range_max_m,
+                  "Copies whose centroid lands farther than this are dropped (m)")
+      ->capture_default_str()
+      ->check(real_above(0, 100));
+  cmd->add_option("--augment-width", o->augment.width_factor_min,
+                  "Smallest factor on a copy's cross-range width (drawn uniformly up to 0.9)")
+      ->capture_default_str()
+      ->check(real_in(0.1, 0.9));
+  cmd->add_option("--augment-noise", o->augment.range_noise_m,
+                  "Range noise added to a copy's returns (m)")
+      ->capture_default_str()
+      ->check(real_in(0, 0.1));
   cmd->callback([o] { run_train(*o); });
 }
 

@@ -227,12 +227,18 @@ void SegmentSamples::append(const SegmentSamples& o) {
 void collect_segment_samples(std::span<const Eigen::Vector2d> ordered,
                              std::span<const Eigen::Vector2d> truth, double range_min_m,
                              double range_max_m, double jump_m, double match_radius_m,
-                             double far_radius_m, SegmentSamples& out, bool negatives) {
+                             double far_radius_m, SegmentSamples& out, bool negatives,
+                             const SegmentAugmentationConfig& aug) {
   std::vector<Eigen::Vector2d> pts;
   for (const auto& p : ordered) {
     const double r = p.norm();
     if (p.allFinite() && r >= range_min_m && r <= range_max_m) pts.push_back(p);
   }
+  const double step =
+      std::isfinite(aug.angular_step_rad) ? aug.angular_step_rad : median_angular_step_rad(pts);
+  // Seeded by the samples so far: each scan of a training run draws other copies.
+  std::mt19937_64 rng(aug.seed * 0x9E3779B97F4A7C15ull + out.features.size());
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (const auto& [b, e] : split_by_jump(pts, jump_m)) {
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     for (std::size_t j = b; j < e; ++j) mean += pts[j];
@@ -240,8 +246,24 @@ void collect_segment_samples(std::span<const Eigen::Vector2d> ordered,
     double nearest = std::numeric_limits<double>::infinity();
     for (const auto& t : truth) nearest = std::min(nearest, (t - mean).norm());
     if (nearest > match_radius_m && (nearest <= far_radius_m || !negatives)) continue;
+    const char label = nearest <= match_radius_m ? 1 : 0;
     out.features.push_back(segment_features(pts, b, e));
-    out.is_leg.push_back(nearest <= match_radius_m ? 1 : 0);
+    out.is_leg.push_back(label);
+    for (int k = 0; k < aug.copies && step > 0; ++k) {
+      const double lo = std::log(std::max(aug.range_factor_min, 1e-3));
+      const double hi = std::log(std::max(aug.range_factor_max, aug.range_factor_min));
+      const double range_factor = std::exp(lo + (hi - lo) * unit(rng));
+      const double width_factor =
+          aug.width_factor_min + (aug.width_factor_max - aug.width_factor_min) * unit(rng);
+      const auto r = reseen_segment(pts, b, e, range_factor, width_factor, step, unit(rng),
+                                    aug.range_noise_m, rng);
+      if (r.end <= r.begin) continue;
+      Eigen::Vector2d m = Eigen::Vector2d::Zero();
+      for (std::size_t j = r.begin; j < r.end; ++j) m += r.points[j];
+      if ((m / double(r.end - r.begin)).norm() > aug.range_max_m) continue;
+      out.features.push_back(segment_features(r.points, r.begin, r.end));
+      out.is_leg.push_back(label);
+    }
   }
 }
 

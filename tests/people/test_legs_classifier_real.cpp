@@ -9,8 +9,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <memory>
+#include <sstream>
+#include <string>
 
 #include "fieldlidar/people/legs_2d_pipeline.hpp"
 #include "legs_data.hpp"
@@ -155,6 +159,30 @@ TEST(LegsPipelineReal, HeldOutMeetsTheTargets) {
   // The walker is reported on about half the scans that show both legs (the rest: before the
   // first metre walked, or while the track is being confirmed).
   EXPECT_GT(h.person_rate(), 0.45);
+}
+
+// The shipped classifier (config/legs_2d_classifier.yaml) is what `legs-train --positive
+// positive_*_extracted.bag --negative negative_2.bag` writes, no augmentation (legs-train
+// --augment 0, its default), with the occupied-space margins added by hand: training on every
+// shared bag reproduces its trees.
+TEST(LegsPipelineReal, TrainingReproducesTheShippedClassifier) {
+  FIELDLIDAR_REQUIRE_DATA("legs_2d/positive_1_extracted.bag");
+  FIELDLIDAR_REQUIRE_DATA("legs_2d/negative_2.bag");
+  const std::string file = std::string(FIELDLIDAR_CONFIG_DIR) + "/legs_2d_classifier.yaml";
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto shipped = leg_classifier_from_yaml(text.str(), file);
+  const auto trained = train_without(-1, -1);
+  ASSERT_EQ(trained->trees.size(), shipped.trees.size());
+  EXPECT_DOUBLE_EQ(trained->threshold, shipped.threshold);
+  for (std::size_t i = 0; i < shipped.trees.size(); ++i) {
+    const auto &a = trained->trees[i], &b = shipped.trees[i];
+    EXPECT_EQ(a.feature, b.feature) << i;
+    EXPECT_NEAR(a.threshold, b.threshold, 1e-6 * (1 + std::abs(b.threshold))) << i;
+    EXPECT_NEAR(a.below.below, b.below.below, 1e-6 * (1 + std::abs(b.below.below))) << i;
+    EXPECT_NEAR(a.above.above, b.above.above, 1e-6 * (1 + std::abs(b.above.above))) << i;
+  }
 }
 
 // What each stage of the pipeline buys, held out as well; each must pay for itself.

@@ -14,6 +14,8 @@
 
 #include <Eigen/Core>
 
+#include "fieldlidar/people/leg_augmentation.hpp"
+
 namespace fieldlidar::people {
 
 /// Number of features per segment (see segment_feature_names()).
@@ -92,7 +94,8 @@ LegClassifier train_leg_classifier(std::span<const SegmentFeatures> features,
 /// With `negatives` false only the positives are kept: scans annotated inside a region only
 /// (e.g. every cluster within a wedge in front of the sensor) hold unannotated people outside it,
 /// so their other segments are not known to be non-legs; negatives then come from people-free
-/// scans.
+/// scans. With `augmentation.copies` > 0, each kept segment also adds that many copies re-seen
+/// farther and narrower (reseen_segment, leg_augmentation.hpp) with the same label.
 struct SegmentSamples {
   std::vector<SegmentFeatures> features;
   std::vector<char> is_leg;
@@ -101,7 +104,8 @@ struct SegmentSamples {
 void collect_segment_samples(std::span<const Eigen::Vector2d> ordered_points,
                              std::span<const Eigen::Vector2d> truth_legs, double range_min_m,
                              double range_max_m, double segment_jump_m, double match_radius_m,
-                             double far_radius_m, SegmentSamples& out, bool negatives = true);
+                             double far_radius_m, SegmentSamples& out, bool negatives = true,
+                             const SegmentAugmentationConfig& augmentation = {});
 
 /// YAML text of a classifier; parse it back with leg_classifier_from_yaml (throws
 /// fieldlidar::Error naming `source` on malformed input or an unknown feature name).
