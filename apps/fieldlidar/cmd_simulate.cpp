@@ -92,7 +92,7 @@ std::string odom_csv(const std::vector<sim::WheelOdometrySample>& odo) {
   return s;
 }
 
-std::string trees_csv(const std::vector<sim::TreeTruth>& trees) {
+std::string truth_trees_csv(const std::vector<sim::TreeTruth>& trees) {
   std::string s =
       "id,base_x_m,base_y_m,base_z_m,axis_x,axis_y,axis_z,dbh_m,height_m,taper_m_per_m,leaning,"
       "forked,"
@@ -209,7 +209,7 @@ void run_simulate(const SimulateOptions& o) {
     for (const auto& p : scene.operator_path()) s += fmt::format("{:.4f},{:.4f}\n", p.x(), p.y());
     write_text(dir / "operator_path.csv", s, o.force);
   }
-  if (!scene.trunks().empty()) write_text(dir / "trees.csv", trees_csv(scene.trunks()), o.force);
+  if (!scene.trunks().empty()) write_text(dir / "trees.csv", truth_trees_csv(scene.trunks()), o.force);
   std::unique_ptr<Grid2D> terrain;
   if (*kind == sim::SceneKind::kTerrain) {
     terrain = std::make_unique<Grid2D>(scene.terrain_truth({.resolution_m = o.truth_resolution_m}));
