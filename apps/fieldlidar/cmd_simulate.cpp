@@ -209,7 +209,8 @@ void run_simulate(const SimulateOptions& o) {
     for (const auto& p : scene.operator_path()) s += fmt::format("{:.4f},{:.4f}\n", p.x(), p.y());
     write_text(dir / "operator_path.csv", s, o.force);
   }
-  if (!scene.trunks().empty()) write_text(dir / "trees.csv", truth_trees_csv(scene.trunks()), o.force);
+  if (!scene.trunks().empty())
+    write_text(dir / "trees.csv", truth_trees_csv(scene.trunks()), o.force);
   std::unique_ptr<Grid2D> terrain;
   if (*kind == sim::SceneKind::kTerrain) {
     terrain = std::make_unique<Grid2D>(scene.terrain_truth({.resolution_m = o.truth_resolution_m}));
