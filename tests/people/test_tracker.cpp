@@ -177,10 +177,10 @@ TEST(Tracker, LostTargetIsNotTakenByClutterNorByAnotherPersonSeenBefore) {
   std::normal_distribution<double> noise(0, 0.15);
   for (int k = 0; k <= 200; ++k) {
     const double t = 0.1 * k;
-    std::vector<Eigen::Vector2d> det{{-1.5, 6 - 0.5 * t}};  // the bystander
-    if (k < 30) det.push_back({-3 + t, 0});                  // the target, until hidden
+    std::vector<Eigen::Vector2d> det{{-1.5, 6 - 0.5 * t}};              // the bystander
+    if (k < 30) det.push_back({-3 + t, 0});                             // the target, until hidden
     if (k >= 30 && k % 3 != 0) det.push_back({0.3 + noise(rng), 0.8});  // corner clutter
-    if (k >= 150) det.push_back({6 + 0.1 * (k - 150), 1.0});  // the target again
+    if (k >= 150) det.push_back({6 + 0.1 * (k - 150), 1.0});            // the target again
     tracker.update(t, det);
     if (k == 5) {
       ASSERT_TRUE(tracker.select_nearest({-2.5, 0}).has_value());
