@@ -139,9 +139,7 @@ TrackerUpdate PersonTracker::update(double stamp_s, std::span<const Eigen::Vecto
   const double dt = started_ ? stamp_s - stamp_s_ : 0.0;
   started_ = true;
   stamp_s_ = stamp_s;
-  for (auto& t : tracks_) {
-    kalman_predict(t, dt, config_.accel_sigma_m_s2);
-  }
+  for (auto& t : tracks_) kalman_predict(t, dt, config_.accel_sigma_m_s2);
   // A target lost longer than target_reattach_s is only taken again by a confirmed
   // re-acquisition: its coasting track goes (see TrackerConfig).
   if (target_id_ && stamp_s - target_last_s_ > config_.target_reattach_s)
