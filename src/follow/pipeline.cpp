@@ -63,6 +63,34 @@ people::LegDetectorConfig legs_for_sensor(const people::LegDetectorConfig& legs_
   return legs;
 }
 
+namespace {
+
+/// Of the confirmed persons seen this frame within `range_m` ahead of the mower that pass
+/// `accept`, the one nearest the mower's heading (smallest bearing).
+template <class Accept>
+std::optional<std::uint32_t> person_ahead(const people::PersonTracker& tracker, const Pose2& mower,
+                                          double range_m, Accept accept) {
+  const Eigen::Vector2d heading(std::cos(mower.yaw_rad), std::sin(mower.yaw_rad));
+  const people::Track* best = nullptr;
+  double best_bearing = 0;
+  for (const auto& t : tracker.tracks()) {
+    const Eigen::Vector2d d = t.position() - mower.xy();
+    if (!t.confirmed || t.missed_frames > 0 || d.norm() > range_m || d.dot(heading) <= 0 ||
+        !accept(t))
+      continue;
+    const double bearing =
+        std::atan2(std::abs(heading.x() * d.y() - heading.y() * d.x()), d.dot(heading));
+    if (!best || bearing < best_bearing) {
+      best = &t;
+      best_bearing = bearing;
+    }
+  }
+  if (!best) return std::nullopt;
+  return best->id;
+}
+
+}  // namespace
+
 Perception perceive(const PointCloud& cloud, const SensorModel& sensor, const Pose& T_world_lidar,
                     const FollowConfig& config) {
   Perception out;
@@ -106,24 +134,18 @@ FrameOutput FollowPipeline::follow(Perception perception, const Pose2& mower, do
       // The operator stands in front of the mower to start: of the confirmed persons ahead, the
       // one nearest the mower's heading (smallest bearing), not the nearest one (leg-like posts
       // or a bystander beside the mower may be nearer).
-      const Eigen::Vector2d heading(std::cos(mower.yaw_rad), std::sin(mower.yaw_rad));
-      const people::Track* best = nullptr;
-      double best_bearing = 0;
-      for (const auto& t : tracker_.tracks()) {
-        const Eigen::Vector2d d = t.position() - mower.xy();
-        if (!t.confirmed || t.missed_frames > 0 || d.norm() > config_.auto_select_range_m ||
-            d.dot(heading) <= 0)
-          continue;
-        const double bearing =
-            std::atan2(std::abs(heading.x() * d.y() - heading.y() * d.x()), d.dot(heading));
-        if (!best || bearing < best_bearing) {
-          best = &t;
-          best_bearing = bearing;
-        }
-      }
-      if (best) tracker_.select_target(best->id);
+      if (const auto id = person_ahead(tracker_, mower, config_.auto_select_range_m,
+                                       [](const people::Track&) { return true; }))
+        tracker_.select_target(*id);
     }
   }
+  // After the tracker's re-acquisition window the lost operator takes the mower on again as at
+  // the start: by walking in front of it (the mower stays stopped until then).
+  if (tracker_.target_lost() && tracker_.target_lost_s() > tracker_.config().reacquire_window_s)
+    if (const auto id =
+            person_ahead(tracker_, mower, config_.auto_select_range_m,
+                         [&](const people::Track& t) { return tracker_.may_reacquire(t); }))
+      tracker_.reacquire(*id);
   out.target_id = tracker_.target_id();
   std::optional<Eigen::Vector2d> target_mower;
   if (const auto* t = tracker_.target()) {

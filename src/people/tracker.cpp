@@ -54,7 +54,9 @@ bool PersonTracker::select_target(std::uint32_t id) {
   if (!t || !t->confirmed) return false;
   target_id_ = id;
   target_last_m_ = t->position();
+  target_last_v_ = t->velocity();
   target_last_s_ = t->stamp_s;
+  note_others(*t);
   return true;
 }
 
@@ -76,6 +78,60 @@ const Track* PersonTracker::target() const {
   return t;
 }
 
+Track* PersonTracker::reacquisition_candidate(double stamp_s) {
+  const double lost_s = stamp_s - target_last_s_;
+  const double radius =
+      std::min(config_.reacquire_max_radius_m,
+               config_.reacquire_radius_m + config_.reacquire_walk_speed_m_s * lost_s);
+  // The lost track's straight-on path: where it was, to where it would be had it walked on.
+  const Eigen::Vector2d a = target_last_m_, ab = target_last_v_ * lost_s;
+  const auto off_path = [&](const Eigen::Vector2d& p) {
+    const double s =
+        ab.squaredNorm() > 1e-12 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+    return (p - (a + s * ab)).norm();
+  };
+  Track* best = nullptr;
+  for (auto& c : tracks_) {
+    if (!may_reacquire(c) || (c.position() - target_last_m_).norm() > radius) continue;
+    if (!best || off_path(c.position()) < off_path(best->position())) best = &c;
+  }
+  return best;
+}
+
+void PersonTracker::note_others(const Track& target) {
+  others_at_loss_.clear();
+  for (const auto& o : tracks_)
+    if (o.id != target.id && (o.position() - target.position()).norm() > config_.reacquire_radius_m)
+      others_at_loss_.push_back(o.id);
+}
+
+bool PersonTracker::may_reacquire(const Track& c) const {
+  if (!target_id_ || c.id == *target_id_ || !c.confirmed || c.missed_frames != 0 ||
+      c.streak < config_.reacquire_min_streak ||
+      std::find(others_at_loss_.begin(), others_at_loss_.end(), c.id) != others_at_loss_.end())
+    return false;
+  // Walking: static clutter neither moves away from where it was born nor keeps a speed.
+  return c.velocity().norm() >= config_.reacquire_min_speed_m_s &&
+         (c.position() - c.born_m).norm() >= config_.reacquire_min_walk_m;
+}
+
+bool PersonTracker::reacquire(std::uint32_t id) {
+  if (!target_lost()) return false;
+  const auto it =
+      std::find_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.id == id; });
+  if (it == tracks_.end() || !may_reacquire(*it)) return false;
+  const std::uint32_t target = *target_id_;
+  std::erase_if(tracks_, [&](const Track& t) { return t.id == target; });
+  for (auto& t : tracks_)
+    if (t.id == id) {
+      t.id = target;
+      target_last_m_ = t.position();
+      target_last_v_ = t.velocity();
+      target_last_s_ = t.last_update_s;
+    }
+  return true;
+}
+
 TrackerUpdate PersonTracker::update(double stamp_s, std::span<const Eigen::Vector2d> dets) {
   if (started_ && stamp_s < stamp_s_)
     throw std::invalid_argument("PersonTracker: frame time " + std::to_string(stamp_s) +
@@ -84,6 +140,10 @@ TrackerUpdate PersonTracker::update(double stamp_s, std::span<const Eigen::Vecto
   started_ = true;
   stamp_s_ = stamp_s;
   for (auto& t : tracks_) kalman_predict(t, dt, config_.accel_sigma_m_s2);
+  // A target lost longer than target_reattach_s is only taken again by a confirmed
+  // re-acquisition: its coasting track goes (see TrackerConfig).
+  if (target_id_ && stamp_s - target_last_s_ > config_.target_reattach_s)
+    std::erase_if(tracks_, [&](const Track& t) { return t.id == *target_id_; });
 
   // Gated Mahalanobis cost of each (track, detection).
   const double r2 = config_.measurement_sigma_m * config_.measurement_sigma_m;
@@ -111,6 +171,7 @@ TrackerUpdate PersonTracker::update(double stamp_s, std::span<const Eigen::Vecto
     auto& t = tracks_[i];
     if (assigned[i] < 0) {
       ++t.missed_frames;
+      t.streak = 0;
       continue;
     }
     kalman_update(t, dets[std::size_t(assigned[i])], config_.measurement_sigma_m);
@@ -121,6 +182,7 @@ TrackerUpdate PersonTracker::update(double stamp_s, std::span<const Eigen::Vecto
       t.state[3] = vc.y();
     }
     ++t.hits;
+    ++t.streak;
     t.missed_frames = 0;
     t.last_update_s = stamp_s;
     if (t.hits >= config_.confirm_hits) t.confirmed = true;
@@ -139,7 +201,8 @@ TrackerUpdate PersonTracker::update(double stamp_s, std::span<const Eigen::Vecto
   for (std::size_t j = 0; j < dets.size(); ++j) {
     if (result.track_of_detection[j] >= 0 || !dets[j].allFinite()) continue;
     const bool duplicate = std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& o) {
-      return (o.position() - dets[j]).norm() < config_.birth_min_separation_m;
+      return o.missed_frames == 0 &&
+             (o.position() - dets[j]).norm() < config_.birth_min_separation_m;
     });
     if (duplicate) continue;
     Track t;
@@ -150,6 +213,7 @@ TrackerUpdate PersonTracker::update(double stamp_s, std::span<const Eigen::Vecto
     t.covariance = Eigen::Vector4d(ps, vs, ps, vs).asDiagonal();
     t.hits = 1;
     t.last_update_s = t.stamp_s = t.born_s = stamp_s;
+    t.born_m = dets[j];
     t.confirmed = config_.confirm_hits <= 1;
     result.track_of_detection[j] = t.id;
     tracks_.push_back(t);
@@ -162,25 +226,17 @@ TrackerUpdate PersonTracker::update(double stamp_s, std::span<const Eigen::Vecto
     const bool tracked = it != tracks_.end() && it->missed_frames <= config_.coast_frames;
     if (it != tracks_.end() && it->missed_frames == 0) {
       target_last_m_ = it->position();
+      target_last_v_ = it->velocity();
       target_last_s_ = stamp_s;
+      note_others(*it);
     } else if (!tracked && stamp_s - target_last_s_ <= config_.reacquire_window_s) {
-      const double radius =
-          std::min(config_.reacquire_max_radius_m,
-                   config_.reacquire_radius_m + config_.max_speed_m_s * (stamp_s - target_last_s_));
-      Track* best = nullptr;
-      for (auto& c : tracks_)
-        if (c.id != *target_id_ && c.confirmed && c.missed_frames == 0 &&
-            c.born_s > target_last_s_ && (c.position() - target_last_m_).norm() <= radius &&
-            c.velocity().norm() >= config_.reacquire_min_speed_m_s &&
-            (!best ||
-             (c.position() - target_last_m_).norm() < (best->position() - target_last_m_).norm()))
-          best = &c;
-      if (best) {
+      if (Track* best = reacquisition_candidate(stamp_s)) {
         const std::uint32_t old_id = best->id;
         best->id = *target_id_;
         for (auto& d : result.track_of_detection)
           if (d == old_id) d = *target_id_;
         target_last_m_ = best->position();
+        target_last_v_ = best->velocity();
         target_last_s_ = stamp_s;
         result.target_updated = true;
         if (it != tracks_.end()) tracks_.erase(it);  // invalidates `best`

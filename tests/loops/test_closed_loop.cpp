@@ -77,7 +77,9 @@ TEST(ClosedLoop, DefaultLawnBoundaryMatchesTheWalkedLoop) {
 
 // Odometry poses: boundary mean 0.027 m, Hausdorff 0.290 m (true poses: 0.019 m, 0.217 m).
 // Hausdorff over the sensor noise seeds 1-4: true poses 0.217, 0.272, 0.202, 0.266 m; odometry
-// poses 0.274, 0.339, 0.238, 0.221 m; planar matches thinned to 0.2 m 0.228, 0.238, 0.263, 0.264 m.
+// poses 0.274, 0.339, 0.238, 0.221 m; planar matches thinned to 0.2 m 0.228, 0.238, 0.263, 0.264 m
+// (unchanged by the re-acquisition rule, frames_target_off 0 in all 12 runs; seed 2 with odometry
+// poses fails the 0.30 m bound: the controller's corner overshoot).
 TEST(ClosedLoop, CrossingPersonNeverTakesTheTargetId) {
   const auto r = run(Scenario::kCrossing);
   ASSERT_TRUE(r.first_target_id.has_value());
@@ -124,25 +126,39 @@ TEST(ClosedLoop, OperatorWalkingTooFastStopsTheMowerBeyondTheMaximumDistance) {
     }
   EXPECT_GT(too_far, 0u);
   EXPECT_EQ(r.frames_moving_too_close, 0u);
+  // Once lost out of range, the operator is taken again only walking back into view (a confirmed
+  // re-acquisition). Noise seeds 1-4 x {true poses, odometry poses, thinned to 0.2 m}: moved
+  // again 19-37 frames after the operator came back into view, frames_target_off 0; before, the
+  // mower never moved again (the target's track had died), frames_target_off 8 with true poses
+  // and seed 1 (the coasting track on clutter).
+  EXPECT_EQ(r.frames_target_off, 0u);
+  EXPECT_GE(r.max_resume_delay_frames, 0);
 }
 
 // The operator's detour behind the shed hides them: the mower stops within one frame of the first
-// hidden sweep and moves again after re-detection. (After the detour the operator is farther than
-// L_m from the stopped mower and walks on, so by the seed's rule the lap is not completed.)
-// Fragile, whatever the pose source: the operator comes back into view about 5 m and 7 s from
-// where they were lost, beyond the tracker's re-acquisition (4 m, 6 s), so the target track never
-// takes them again; the mower moves again only when the coasting target track takes a false
-// detection near the shed corner (frames_target_off > 0) while the operator is in view. Over the
-// sensor noise seeds 1-4 (FIELDLIDAR_FOLLOW_SIM_SEED) the run resumed with true poses for 1, 2, 4
-// (not 3), with odometry poses for 1, 4, with planar matches thinned to 0.15 m
-// (FIELDLIDAR_FOLLOW_PLANE_SPACING) for 2 only and to 0.2 m for none, the odometry's error 3-9 cm
-// in all of them.
+// hidden sweep and moves again only after a confirmed re-acquisition (people::TrackerConfig: a
+// track born after the loss that walks, within a walking person's reach of the last estimate).
+// Where the operator comes back into view depends on where the mower stopped: with the noise seed
+// 1 and odometry poses, 8.6 s later and 5.6 m from where they were lost (taken again within the
+// window, 15 s, and reach, 1 m + 1.5 m/s x time lost), and after the mower lost them again out of
+// range, only when the operator, walking on round the lawn, passed in front of it 70 s later
+// (FollowConfig::target_id: the start rule restricted to walking persons); with true poses and
+// seed 3 the mower stops south of the shed, the operator stays hidden 24 s and comes back 17 m
+// away, beyond the window, and is taken again only passing in front of the mower. The lap is not
+// completed (the seed's rule). Before, the coasting target track took a false detection at
+// the shed corner and the mower followed it (frames_target_off 2-54 in 9 of the 12 runs below),
+// resuming only by luck (noise seeds 1-4: true poses 1, 2, 4; odometry poses 1, 4; planar matches
+// thinned to 0.2 m none). Now over the seeds 1-4 x {true poses, odometry poses, thinned to 0.2 m}:
+// always resumed, 20-44 frames after the operator came back into view, frames_target_off 0.
 TEST(ClosedLoop, OcclusionStopsTheMowerWithinOneFrameAndItResumes) {
   const auto r = run(Scenario::kOccluded);
   EXPECT_GE(r.occlusions, 1u);
   EXPECT_GE(r.max_stop_delay_frames, 0);
   EXPECT_LE(r.max_stop_delay_frames, 1);
-  EXPECT_GE(r.max_resume_delay_frames, 0);  // moved again after a re-detection
+  EXPECT_GE(r.max_resume_delay_frames, 0);   // moved again after a re-detection
+  EXPECT_LE(r.max_resume_delay_frames, 60);  // within 6 s of coming back into view
+  EXPECT_EQ(r.frames_target_off, 0u);        // never follows clutter nor anyone else
+  EXPECT_EQ(r.target_switches, 0u);          // the operator keeps their id
   EXPECT_EQ(r.frames_moving_too_close, 0u);
 }
 

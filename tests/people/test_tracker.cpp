@@ -97,6 +97,7 @@ TEST(Tracker, ConstantVelocityPersonIsConfirmedAndItsVelocityConverges) {
 TEST(Tracker, TracksAreDeletedAfterMissingAndTentativeOnesSooner) {
   TrackerConfig cfg;
   cfg.delete_after_miss_s = 1.0;
+  cfg.target_reattach_s = 2.0;  // the lost target's own track is kept as any other one
   PersonTracker tracker(cfg);
   for (int k = 0; k < 5; ++k) tracker.update(0.1 * k, std::vector<Eigen::Vector2d>{{2, 0}});
   tracker.update(0.5, std::vector<Eigen::Vector2d>{{2, 0}, {-3, 0}});  // a one-off clutter hit
@@ -154,11 +155,42 @@ TEST(Tracker, TargetIsReacquiredNearItsLastPositionAfterItsTrackDied) {
   for (int k = 5; k < 12; ++k) tracker.update(0.1 * k, {});
   EXPECT_TRUE(tracker.tracks().empty());
   EXPECT_TRUE(tracker.target_lost());
-  for (int k = 12; k < 20; ++k)  // walking away at 1 m/s; the clutter at (6, 6) stands still
+  // Walking away at 1 m/s; the clutter at (6, 6) stands still. The walker is the target again
+  // once it has walked 1 m over 10 frames in a row (reacquire_min_walk_m, reacquire_min_streak).
+  for (int k = 12; k < 26; ++k) {
     tracker.update(0.1 * k, std::vector<Eigen::Vector2d>{{2.3 + 0.1 * (k - 12), 0.1}, {6, 6}});
+    if (k < 21) {
+      EXPECT_TRUE(tracker.target_lost()) << "frame " << k;  // not yet confirmed
+    }
+  }
   ASSERT_NE(tracker.target(), nullptr);
   EXPECT_EQ(*tracker.target_id(), 1u);  // the id is kept
-  EXPECT_NEAR(tracker.target()->position().x(), 3.0, 0.1);
+  EXPECT_NEAR(tracker.target()->position().x(), 3.6, 0.1);
+}
+
+TEST(Tracker, LostTargetIsNotTakenByClutterNorByAnotherPersonSeenBefore) {
+  // The target walks +x at 1 m/s and vanishes behind an occluder at x = 0; a bystander walks
+  // -y 3 m away all along; a flickering leg-like return sits at the occluder's corner, moving
+  // a little (range noise along a wall). 12 s later the target walks out 6 m ahead.
+  PersonTracker tracker;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0, 0.15);
+  for (int k = 0; k <= 200; ++k) {
+    const double t = 0.1 * k;
+    std::vector<Eigen::Vector2d> det{{-1.5, 6 - 0.5 * t}};              // the bystander
+    if (k < 30) det.push_back({-3 + t, 0});                             // the target, until hidden
+    if (k >= 30 && k % 3 != 0) det.push_back({0.3 + noise(rng), 0.8});  // corner clutter
+    if (k >= 150) det.push_back({6 + 0.1 * (k - 150), 1.0});            // the target again
+    tracker.update(t, det);
+    if (k == 5) {
+      ASSERT_TRUE(tracker.select_nearest({-2.5, 0}).has_value());
+    }
+    if (k > 31 && k < 160) {
+      EXPECT_TRUE(tracker.target_lost()) << "frame " << k;
+    }
+  }
+  ASSERT_NE(tracker.target(), nullptr);  // the walker 6 m on, 12 s later (radius capped 10 m)
+  EXPECT_NEAR((tracker.target()->position() - Eigen::Vector2d(11, 1)).norm(), 0, 0.2);
 }
 
 TEST(Tracker, RejectsTimeGoingBackwards) {

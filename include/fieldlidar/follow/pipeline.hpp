@@ -42,6 +42,9 @@ struct FollowConfig {
   BoundaryConfig boundary;
   /// The target: this track id when set (the operator's choice), else the confirmed person
   /// within `auto_select_range_m` ahead of the mower nearest its heading (smallest bearing).
+  /// A target lost longer than the tracker's reacquire_window_s is taken again the same way, by
+  /// a person walking in front of the mower (PersonTracker::may_reacquire); the mower stays
+  /// stopped until then.
   std::optional<std::uint32_t> target_id;
   double auto_select_range_m = 6.0;
 

@@ -29,13 +29,27 @@ struct TrackerConfig {
   /// detection is a duplicate (e.g. a leg paired with the wrong leg).
   double birth_min_separation_m = 0.4;
   int coast_frames = 1;  ///< the target counts as lost after more missed frames than this
-  /// While the target is lost, a confirmed track born after the target's last detection within
-  /// reacquire_radius_m + max_speed_m_s * (time lost) of its last estimate, within
-  /// `reacquire_window_s`, is the target again and takes over its id (the id stays stable).
+  /// Re-acquisition after a loss (occlusion behind a shed or a hedge, a missed turn). Within
+  /// `target_reattach_s` of its last detection the target's own track may take a detection again
+  /// (a leg missed for a sweep or two). After that the old track is dropped (a coasting track
+  /// would take whatever lies along its prediction, e.g. clutter at the occluder's corner) and the
+  /// mower stays stopped until a confirmed re-acquisition: a track born after the loss that
+  /// walks (moved `reacquire_min_walk_m` from where it was born, at `reacquire_min_speed_m_s` or
+  /// more; static clutter does not), within `reacquire_window_s` of the loss and within reach of
+  /// a walking person, reacquire_radius_m + reacquire_walk_speed_m_s * (time lost), never beyond
+  /// reacquire_max_radius_m, of the last estimate. Of several, the one nearest the lost track's
+  /// straight-on path (last position + velocity * time lost, or any point short of it) is the
+  /// target again and takes over its id (the id stays stable). People tracked since before the
+  /// loss away from the target (farther than reacquire_radius_m) are never candidates; a track
+  /// beside it (a duplicate on one of its legs) may be.
+  double target_reattach_s = 0.5;
   double reacquire_radius_m = 1.0;
-  double reacquire_window_s = 6.0;
-  double reacquire_max_radius_m = 4.0;   ///< the search radius never grows beyond this (m)
-  double reacquire_min_speed_m_s = 0.3;  ///< the candidate walks (static clutter does not)
+  double reacquire_window_s = 15.0;
+  double reacquire_walk_speed_m_s = 1.5;  ///< how fast a person walks while hidden (m/s)
+  double reacquire_max_radius_m = 10.0;   ///< the search radius never grows beyond this (m)
+  double reacquire_min_speed_m_s = 0.3;   ///< the candidate walks (static clutter does not)
+  double reacquire_min_walk_m = 1.0;      ///< and has moved this far since it was born (m)
+  int reacquire_min_streak = 10;          ///< over this many frames in a row (clutter flickers)
 };
 
 /// One person's filter: state X = [x, vx, y, vy] (seed's A with period T), measurement [x, y].
@@ -45,9 +59,11 @@ struct Track {
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Identity();
   int hits = 0;              ///< updates with a detection
   int missed_frames = 0;     ///< consecutive frames without a detection
+  int streak = 1;            ///< consecutive frames with a detection, up to the last one
   double last_update_s = 0;  ///< time of the last detection
   double stamp_s = 0;        ///< time of the state
   double born_s = 0;         ///< time of the first detection
+  Eigen::Vector2d born_m = Eigen::Vector2d::Zero();  ///< position of the first detection
   bool confirmed = false;
 
   Eigen::Vector2d position() const { return {state[0], state[2]}; }
@@ -85,10 +101,24 @@ class PersonTracker {
   /// True when a target was chosen but is currently lost (missed or deleted).
   bool target_lost() const { return target_id_.has_value() && target() == nullptr; }
   void clear_target() { target_id_.reset(); }
+  /// Seconds since the target's last detection (0 while it is tracked or none was chosen).
+  double target_lost_s() const { return target_lost() ? stamp_s_ - target_last_s_ : 0.0; }
+  /// A confirmed track born after the target was lost that walks (see TrackerConfig): the only
+  /// kind of track that may become the lost target again.
+  bool may_reacquire(const Track& track) const;
+  /// The lost target is track `id` again (e.g. the operator walked back in front of the mower
+  /// after the re-acquisition window): `id` takes over the target's id. False, and nothing
+  /// changes, unless the target is lost and may_reacquire() holds for `id`.
+  bool reacquire(std::uint32_t id);
 
   const TrackerConfig& config() const { return config_; }
 
  private:
+  /// The confirmed, walking track that re-acquires the lost target now, if any.
+  Track* reacquisition_candidate(double stamp_s);
+  /// Remembers the tracks away from `target` (see others_at_loss_).
+  void note_others(const Track& target);
+
   TrackerConfig config_;
   std::vector<Track> tracks_;
   std::uint32_t next_id_ = 1;
@@ -96,6 +126,10 @@ class PersonTracker {
   bool started_ = false;
   std::optional<std::uint32_t> target_id_;
   Eigen::Vector2d target_last_m_ = Eigen::Vector2d::Zero();
+  Eigen::Vector2d target_last_v_ = Eigen::Vector2d::Zero();
+  /// The tracks other than the target, away from it, when it was last detected: other people
+  /// (or clutter) that may never take over the target's id.
+  std::vector<std::uint32_t> others_at_loss_;
   double target_last_s_ = 0;
 };
 
