@@ -78,7 +78,7 @@ const Track* PersonTracker::target() const {
   return t;
 }
 
-Track* PersonTracker::reacquisition_candidate(double stamp_s) {
+const Track* PersonTracker::reacquisition_candidate(double stamp_s) const {
   const double lost_s = stamp_s - target_last_s_;
   const double radius =
       std::min(config_.reacquire_max_radius_m,
@@ -90,8 +90,8 @@ Track* PersonTracker::reacquisition_candidate(double stamp_s) {
         ab.squaredNorm() > 1e-12 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
     return (p - (a + s * ab)).norm();
   };
-  Track* best = nullptr;
-  for (auto& c : tracks_) {
+  const Track* best = nullptr;
+  for (const auto& c : tracks_) {
     if (!may_reacquire(c) || (c.position() - target_last_m_).norm() > radius) continue;
     if (!best || off_path(c.position()) < off_path(best->position())) best = &c;
   }
@@ -120,6 +120,11 @@ bool PersonTracker::reacquire(std::uint32_t id) {
   const auto it =
       std::find_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.id == id; });
   if (it == tracks_.end() || !may_reacquire(*it)) return false;
+  take_as_target(id);
+  return true;
+}
+
+void PersonTracker::take_as_target(std::uint32_t id) {
   const std::uint32_t target = *target_id_;
   std::erase_if(tracks_, [&](const Track& t) { return t.id == target; });
   for (auto& t : tracks_)
@@ -129,7 +134,6 @@ bool PersonTracker::reacquire(std::uint32_t id) {
       target_last_v_ = t.velocity();
       target_last_s_ = t.last_update_s;
     }
-  return true;
 }
 
 TrackerUpdate PersonTracker::update(double stamp_s, std::span<const Eigen::Vector2d> dets) {
@@ -230,16 +234,12 @@ TrackerUpdate PersonTracker::update(double stamp_s, std::span<const Eigen::Vecto
       target_last_s_ = stamp_s;
       note_others(*it);
     } else if (!tracked && stamp_s - target_last_s_ <= config_.reacquire_window_s) {
-      if (Track* best = reacquisition_candidate(stamp_s)) {
+      if (const Track* best = reacquisition_candidate(stamp_s)) {
         const std::uint32_t old_id = best->id;
-        best->id = *target_id_;
+        take_as_target(old_id);  // invalidates `best` and `it`
         for (auto& d : result.track_of_detection)
           if (d == old_id) d = *target_id_;
-        target_last_m_ = best->position();
-        target_last_v_ = best->velocity();
-        target_last_s_ = stamp_s;
         result.target_updated = true;
-        if (it != tracks_.end()) tracks_.erase(it);  // invalidates `best`
       }
     }
   }

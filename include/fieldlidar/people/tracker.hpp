@@ -115,9 +115,12 @@ class PersonTracker {
 
  private:
   /// The confirmed, walking track that re-acquires the lost target now, if any.
-  Track* reacquisition_candidate(double stamp_s);
+  const Track* reacquisition_candidate(double stamp_s) const;
   /// Remembers the tracks away from `target` (see others_at_loss_).
   void note_others(const Track& target);
+  /// The track `id` takes the target's id and last position, velocity and time; the target's
+  /// own (coasting) track goes.
+  void take_as_target(std::uint32_t id);
 
   TrackerConfig config_;
   std::vector<Track> tracks_;
