@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -13,7 +14,7 @@
 namespace fieldlidar::terrain::detail {
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 /// Unit normal (z >= 0) of the plane of a set's covariance.

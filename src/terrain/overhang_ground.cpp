@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "fused_cell.hpp"
 
@@ -17,7 +18,7 @@ std::vector<std::uint8_t> drop_overhang_ground(std::span<const Eigen::Vector3d> 
   std::vector<std::uint8_t> out(is_ground.begin(), is_ground.end());
   const double cm = config.layers.cell_m;
   // The clearance, plus the most that ground the robot can climb rises across 3 x 3 cells.
-  const double kDeg = 3.14159265358979323846 / 180.0;
+  const double kDeg = std::numbers::pi / 180.0;
   const double rise =
       config.layers.robot.clearance_m +
       2.0 * std::sqrt(2.0) * cm * std::tan(config.layers.robot.max_slope_deg * kDeg);

@@ -3,6 +3,7 @@
 /// ground segmentation left out) stands above the lowest ground near it by the slope alone, not
 /// by an object.
 #include <cmath>
+#include <numbers>
 
 #include <Eigen/Eigenvalues>
 
@@ -28,7 +29,7 @@ double scan_ground_plane_z(std::span<ScanCell> local, int x, int y, int w, int h
     const Eigen::Vector3d n = eig.eigenvectors().col(0);
     // Returns along one line (a single ring) give no plane: the two smallest spreads alike.
     const Eigen::Vector3d ev = eig.eigenvalues();
-    constexpr double kDeg = 3.14159265358979323846 / 180.0;
+    constexpr double kDeg = std::numbers::pi / 180.0;
     if (!(ev[1] > 4.0 * ev[0]) ||
         std::abs(n.z()) < std::cos(config.layers.robot.max_slope_deg * kDeg))
       return std::numeric_limits<double>::quiet_NaN();
