@@ -60,8 +60,9 @@ struct OdometryConfig {
   /// wheels) the matching moves the pose by up to 8.8 mm per sweep (0.7 mm held, the 2 mm
   /// bound); standing behind the operator in the follow loop's lawn scene, by 7-9 mm per sweep
   /// on average at some places. Off by default: with 2 mm the follow loop's occlusion run on
-  /// odometry poses (tests/loops) no longer resumes, its resumption coming from the target
-  /// track taking a false detection near the shed (see that test).
+  /// odometry poses (tests/loops) no longer resumed, at a time when its resumption came from the
+  /// target track taking a false detection near the shed; the tracker's re-acquisition rule has
+  /// changed that since, and the option was not measured again.
   double stationary_m = 0.0;
   /// Localisation: track in a given map without adding to it.
   bool update_map = true;
