@@ -3,7 +3,9 @@
 // width to a fraction of the azimuth step where the lines cross the stem at varied phases of it;
 // r = D sin(width / 2) at the axis distance D. Range noise does not enter it as it does a fit
 // to a partial arc. A stem whose edges are open on too many lines (an occluder beside it) falls
-// back on the per-line widths: the angle between a line's outermost returns plus one step.
+// back on the per-line widths: the angle between a line's outermost returns plus one step. A
+// stem cut by an occluder on every line near breast height is measured on its lines farther up
+// or down that see it whole; only without them is its diameter a guess.
 #include "silhouette.hpp"
 
 #include <algorithm>
@@ -26,6 +28,36 @@ double lean_factor(const Cylinder& axis, double min_slope) {
   return std::abs(s) < min_slope ? 1.0 : std::sqrt(1 + s * s);
 }
 
+// The edge fit when both edges are closed on enough lines: radius at axis distance dist0.
+bool edge_radius(std::span<const EdgeLine> edges, double dist0, const TreeConfig& c,
+                 SilhouetteRadius& out) {
+  const auto closed = [&](auto side) {
+    return std::size_t(std::count_if(edges.begin(), edges.end(), side));
+  };
+  if (closed([](const EdgeLine& e) { return e.lo_out_rad > -1e29; }) < c.min_silhouette_lines ||
+      closed([](const EdgeLine& e) { return e.hi_out_rad < 1e29; }) < c.min_silhouette_lines)
+    return false;
+  const EdgeWidth w = fit_edge_width(edges, 1.0 / std::max(dist0, 1.0));
+  if (!w.ok) return false;
+  out.radius_m = dist0 * std::sin(w.width_rad / 2);
+  out.lines = edges.size();
+  return true;
+}
+
+// Mean of the middle half of per-line radii: each line's width is quantised to whole azimuth
+// steps, and the lines cross the stem at varied phases of that step (lean, taper), so a mean
+// resolves less than a step where a median stays on one of the quantised values.
+bool middle_mean(std::vector<double>& radii, std::size_t min_lines, SilhouetteRadius& out) {
+  if (radii.size() < min_lines || radii.empty()) return false;
+  std::sort(radii.begin(), radii.end());
+  const std::size_t cut = radii.size() / 4;
+  double sum = 0;
+  for (std::size_t k = cut; k < radii.size() - cut; ++k) sum += radii[k];
+  out.radius_m = sum / double(radii.size() - 2 * cut);
+  out.lines = radii.size();
+  return true;
+}
+
 }  // namespace
 
 SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const ScanSegment> segments,
@@ -40,13 +72,16 @@ SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const Scan
   const Eigen::Vector3d on0 = axis.point + a * ((z0 - axis.point.z()) / a.z());
   const double bearing0 = std::atan2(on0.y(), on0.x()), dist0 = on0.head<2>().norm() / lean;
   // Each line: the two edges of what it sees, as angles from the axis bearing.
-  std::vector<double> measured, bounds, guesses;
-  std::vector<EdgeLine> edges;
+  std::vector<double> measured, bounds, guesses, far_measured;
+  std::vector<EdgeLine> edges, far_edges;
   for (auto s : segment_ids) {
     const auto& seg = segments[s];
     const double step = rings.step(seg.line);
-    if (std::abs(seg.centroid.z() - base_z - c.dbh_height_m) > c.dbh_window_m || step <= 0)
-      continue;
+    const double h = seg.centroid.z() - base_z;
+    const bool near = std::abs(h - c.dbh_height_m) <= c.dbh_window_m;
+    const bool far = !near && std::abs(h - c.dbh_height_m) <= c.silhouette_far_window_m &&
+                     h >= c.silhouette_min_height_m;
+    if (!(near || far) || step <= 0) continue;
     const Eigen::Vector3d on = axis.point + a * ((seg.centroid.z() - axis.point.z()) / a.z());
     const double bearing = std::atan2(on.y(), on.x()), dist = on.head<2>().norm() / lean;
     double lo = 1e30, hi = -1e30, range = 1e30;
@@ -65,13 +100,21 @@ SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const Scan
     // whole stem (its far side lies at most a radius behind the nearest return).
     {
       const double shift = std::remainder(bearing - bearing0, 2 * std::numbers::pi);
-      const double far = range + axis.radius_m + c.edge_clear_m;
+      const double far_m = range + axis.radius_m + c.edge_clear_m;
       EdgeLine e{seg.centroid.z() - z0, lo + shift, hi + shift};
-      if (rings.passed_beside(seg.line, bearing + lo, -1, step, far))
+      if (rings.passed_beside(seg.line, bearing + lo, -1, step, far_m))
         e.lo_out_rad = e.lo_rad - step;
-      if (rings.passed_beside(seg.line, bearing + hi, +1, step, far))
+      if (rings.passed_beside(seg.line, bearing + hi, +1, step, far_m))
         e.hi_out_rad = e.hi_rad + step;
-      edges.push_back(e);
+      // Away from breast height only lines that see the whole stem count.
+      if (near)
+        edges.push_back(e);
+      else if (!lo_hidden && !hi_hidden)
+        far_edges.push_back(e);
+    }
+    if (!near) {
+      if (!lo_hidden && !hi_hidden) far_measured.push_back(dist * std::sin((hi - lo + step) / 2));
+      continue;
     }
     if (lo_hidden && hi_hidden) continue;
     if (!lo_hidden && !hi_hidden) {
@@ -89,18 +132,7 @@ SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const Scan
   }
   // Both edges closed on enough lines: the edge fit. The slope of the edges is bounded by a
   // lean of 45 degrees across the line of sight.
-  const auto closed = [&](auto side) {
-    return std::size_t(std::count_if(edges.begin(), edges.end(), side));
-  };
-  if (closed([](const EdgeLine& e) { return e.lo_out_rad > -1e29; }) >= c.min_silhouette_lines &&
-      closed([](const EdgeLine& e) { return e.hi_out_rad < 1e29; }) >= c.min_silhouette_lines) {
-    const EdgeWidth w = fit_edge_width(edges, 1.0 / std::max(dist0, 1.0));
-    if (w.ok) {
-      out.radius_m = dist0 * std::sin(w.width_rad / 2);
-      out.lines = edges.size();
-      return out;
-    }
-  }
+  if (edge_radius(edges, dist0, c, out)) return out;
   if (!bounds.empty()) {
     // The second widest: one line widened by a branch beside the occluder bounds nothing.
     std::sort(bounds.begin(), bounds.end());
@@ -111,20 +143,21 @@ SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const Scan
   std::erase_if(measured, [&](double r) { return r < out.lower_bound_m; });
   out.lines = measured.size();
   if (measured.size() < c.min_silhouette_lines) {
+    // Every line near breast height cut by an occluder (a shrub, a low branch, a nearer stem):
+    // the stem where the lines see it whole, above or below, rather than a guess that rests on
+    // the bearing of a circle fitted to the sliver (drawn into the sliver, it reads the
+    // diameter as little more than the sliver's width). Only for a stem the occluded lines saw
+    // (one kept with a guess before): those lines replace a guess, they make no new tree.
+    if (!guesses.empty() && (edge_radius(far_edges, dist0, c, out) ||
+                             middle_mean(far_measured, c.min_silhouette_lines, out)))
+      return out;
     if (!guesses.empty()) {
       std::nth_element(guesses.begin(), guesses.begin() + guesses.size() / 2, guesses.end());
       out.guess_m = std::max(guesses[guesses.size() / 2], out.lower_bound_m);
     }
     return out;
   }
-  std::sort(measured.begin(), measured.end());
-  // Mean of the middle half: each line's width is quantised to whole azimuth steps, and the lines
-  // cross the stem at varied phases of that step (lean, taper), so a mean resolves less than a
-  // step where a median stays on one of the quantised values.
-  const std::size_t cut = measured.size() / 4;
-  double sum = 0;
-  for (std::size_t k = cut; k < measured.size() - cut; ++k) sum += measured[k];
-  out.radius_m = sum / double(measured.size() - 2 * cut);
+  middle_mean(measured, c.min_silhouette_lines, out);
   return out;
 }
 

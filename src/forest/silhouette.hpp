@@ -103,6 +103,8 @@ struct SilhouetteRadius {
 
 /// Segments `segment_ids` of one stem whose centroid lies within dbh_window_m of breast height
 /// above base_z; `axis` is the fitted cylinder (its bearing splits a line cut by an occluder).
+/// When every such line is cut by an occluder, the stem's lines up to silhouette_far_window_m
+/// from breast height that see both its edges free measure it instead of a guess.
 SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const ScanSegment> segments,
                                    const RingIndex& rings, std::span<const std::size_t> segment_ids,
                                    const Cylinder& axis, double base_z, const TreeConfig& c);

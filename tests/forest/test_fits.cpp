@@ -221,6 +221,51 @@ TEST(ForestFits, EdgeReturnsTakenForGroundLeaveTheEdgeOpen) {
   EXPECT_NEAR(r.trees[0].dbh_m, 0.32, 0.006);
 }
 
+TEST(ForestFits, StemCutNearBreastHeightIsMeasuredWhereItIsSeenWhole) {
+  // A 0.32 m stem at 12 m leaning 0.06 m per metre, 24 lines from 0.3 to 3.5 m with 3 cm range
+  // noise, behind a 2.4 m shrub at 7 m that hides its near-sensor side on every line within 1 m
+  // of breast height: those lines see a sliver of two or three columns with one edge free. The
+  // guess from the free edge's angle to the bearing of a circle fitted to the sliver (the circle
+  // drawn into it) reads well under the diameter, flagged uncertain; the eight lines above the
+  // shrub see both edges and measure it.
+  std::vector<std::uint8_t> ground;
+  auto cloud = cast_rings(
+      24, 0.3, 0.14, {},
+      [](int k) {
+        const double z = 0.3 + 0.14 * k;
+        std::vector<Eigen::Vector3d> c = {{12.0, 0.018 + 0.06 * z, 0.16}};
+        if (z <= 2.4) c.emplace_back(7.0, -0.065, 0.12);
+        return c;
+      },
+      ground);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.03);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (ground[i]) continue;
+    auto& p = cloud.points[i];
+    const double range = std::hypot(p.x, p.y), k = (range + noise(rng)) / range;
+    p.x = float(p.x * k);
+    p.y = float(p.y * k);
+  }
+  const auto far_stem = [](const TreeResult& r) {
+    std::vector<Tree> out;
+    for (const auto& t : r.trees)
+      if (t.at_height(1.3).head<2>().norm() > 10.0) out.push_back(t);
+    return out;
+  };
+  const auto seen = far_stem(extract_trees(cloud, ground));
+  ASSERT_EQ(seen.size(), 1u);
+  EXPECT_FALSE(seen[0].dbh_uncertain);
+  EXPECT_NEAR(seen[0].dbh_m, 0.32, 0.01);  // 0.321 (0.144, flagged, before)
+  // Lines near breast height only (as before): a guess, flagged.
+  TreeConfig near_only;
+  near_only.silhouette_far_window_m = near_only.dbh_window_m;
+  const auto guessed = far_stem(extract_trees(cloud, ground, near_only));
+  ASSERT_EQ(guessed.size(), 1u);
+  EXPECT_TRUE(guessed[0].dbh_uncertain);
+  EXPECT_LT(guessed[0].dbh_m, 0.2);
+}
+
 TEST(ForestFits, StemBehindTheSensorAcrossMinusPiPi) {
   // A 0.40 m stem at 10 m straight behind the sensor: its returns' azimuths run from near +pi
   // to near -pi. It is one segment a line, its edges the outer ones (cut in two at -pi/pi

@@ -175,6 +175,13 @@ struct TreeConfig {
   /// A stem leaning across the line of sight by more than this slope (tan of the lean) is seen
   /// wider by sqrt(1 + slope^2), which is divided out; a smaller fitted lean is the fit's noise.
   double min_lean_slope = 0.1;
+  /// A stem whose every line within dbh_window_m of breast height is cut by an occluder (a
+  /// shrub, a low branch, a nearer stem) is measured on its lines up to this far from breast
+  /// height, and no lower than silhouette_min_height_m above the ground, that see both of its
+  /// edges free (the edge fit, or the per-line widths); the taper over that height is not
+  /// corrected. Only with none is the diameter a guess (dbh_uncertain).
+  double silhouette_far_window_m = 2.5;
+  double silhouette_min_height_m = 0.5;
 };
 
 /// One tree: straight trunk from its base on the ground.
