@@ -1,5 +1,6 @@
 // End-to-end: fieldlidar trunks on a real pine plot (terrestrial scan, no rings).
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -22,7 +23,9 @@ std::vector<std::vector<double>> csv_rows(const std::filesystem::path& p, std::s
   for (std::string line; std::getline(in, line);) {
     std::stringstream s(line);
     std::vector<double>& r = rows.emplace_back();
-    for (std::string cell; std::getline(s, cell, ',');) r.push_back(std::stod(cell));
+    // An empty cell (dbh_m of a stem whose diameter no scan line measured) reads NaN.
+    for (std::string cell; std::getline(s, cell, ',');)
+      r.push_back(cell.empty() ? std::nan("") : std::stod(cell));
   }
   return rows;
 }

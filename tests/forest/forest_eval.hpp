@@ -16,7 +16,9 @@
 namespace fieldlidar::forest::test {
 
 /// DBH figures leave out the detections marked dbh_uncertain (counted in `uncertain`, their
-/// error in dbh_all_rmse()); detection and position figures take every detection.
+/// guess's error in dbh_all_rmse(); `fieldlidar trunks` leaves their dbh_m empty), so
+/// dbh_rmse() is over every diameter the inventory gives; detection and position figures take
+/// every detection.
 struct Scores {
   int truth = 0, detected = 0, matched = 0, uncertain = 0;
   double dbh_sq = 0, dbh_sum = 0, pos_sq = 0, dbh_sq_uncertain = 0;

@@ -50,11 +50,13 @@ std::string trees_csv(const std::vector<forest::Tree>& trees, const Eigen::Vecto
       "residual_m,observations,dbh_uncertain\n";
   for (const auto& t : trees) {
     const Eigen::Vector3d b = t.base_m + origin;
-    s += fmt::format(
-        "{},{:.3f},{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{:.2f},{:.1f},{:.4f},{},{}\n", t.id,
-        b.x(), b.y(), b.z(), t.dbh_m, t.axis.x(), t.axis.y(), t.axis.z(),
-        t.z_max_seen_m - t.z_min_seen_m, t.arc_deg, t.residual_m, t.observations,
-        int(t.dbh_uncertain));
+    // A diameter no scan line measured (dbh_uncertain) is left empty: the stem's position
+    // stands, its diameter is not an inventory figure.
+    const std::string dbh = t.dbh_uncertain ? "" : fmt::format("{:.4f}", t.dbh_m);
+    s += fmt::format("{},{:.3f},{:.3f},{:.3f},{},{:.4f},{:.4f},{:.4f},{:.2f},{:.1f},{:.4f},{},{}\n",
+                     t.id, b.x(), b.y(), b.z(), dbh, t.axis.x(), t.axis.y(), t.axis.z(),
+                     t.z_max_seen_m - t.z_min_seen_m, t.arc_deg, t.residual_m, t.observations,
+                     int(t.dbh_uncertain));
   }
   return s;
 }
@@ -68,7 +70,7 @@ std::string trees_geojson(const std::vector<forest::Tree>& trees, const Eigen::V
          {"geometry", {{"type", "Point"}, {"coordinates", {b.x(), b.y(), b.z()}}}},
          {"properties",
           {{"id", t.id},
-           {"dbh_m", t.dbh_m},
+           {"dbh_m", t.dbh_uncertain ? nlohmann::json() : nlohmann::json(t.dbh_m)},
            {"height_seen_m", t.z_max_seen_m - t.z_min_seen_m},
            {"arc_deg", t.arc_deg},
            {"residual_m", t.residual_m},

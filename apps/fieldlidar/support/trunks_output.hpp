@@ -14,9 +14,11 @@
 
 namespace fieldlidar::app {
 
-/// trees.csv, bases moved by `origin` (a plot file's own coordinates).
+/// trees.csv, bases moved by `origin` (a plot file's own coordinates); dbh_m is empty for a stem
+/// marked dbh_uncertain (its diameter a guess no scan line measured).
 std::string trees_csv(const std::vector<forest::Tree>& trees, const Eigen::Vector3d& origin);
-/// trees.geojson: one Point feature per tree with its quality record.
+/// trees.geojson: one Point feature per tree with its quality record (dbh_m null where
+/// dbh_uncertain).
 std::string trees_geojson(const std::vector<forest::Tree>& trees, const Eigen::Vector3d& origin);
 
 /// Top-down: every point faint, the 1.2-1.4 m slice above the ground dark, the DBH circles.

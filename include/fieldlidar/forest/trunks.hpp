@@ -198,7 +198,9 @@ struct Tree {
   bool ground_found = false;     ///< false: base from the lowest stem point
   /// A sweep in which every scan line near breast height sees the stem cut by a nearer occluder
   /// over a sliver too narrow to hold its axis bearing: dbh_m is a guess (the fitted radius, no
-  /// less than the visible width), to be left out of an inventory.
+  /// less than the visible width), to be left out of an inventory (`fieldlidar trunks` writes
+  /// it as an empty dbh_m in trees.csv, null in trees.geojson). A stem seen whole on lines
+  /// farther from breast height is measured there and not marked.
   bool dbh_uncertain = false;
   /// Axis point at `h` metres above the base.
   Eigen::Vector3d at_height(double h) const { return base_m + axis * (h / axis.z()); }
