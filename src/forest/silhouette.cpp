@@ -72,50 +72,69 @@ SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const Scan
   const Eigen::Vector3d on0 = axis.point + a * ((z0 - axis.point.z()) / a.z());
   const double bearing0 = std::atan2(on0.y(), on0.x()), dist0 = on0.head<2>().norm() / lean;
   // Each line: the two edges of what it sees, as angles from the axis bearing.
-  std::vector<double> measured, bounds, guesses, far_measured;
-  std::vector<EdgeLine> edges, far_edges;
-  for (auto s : segment_ids) {
-    const auto& seg = segments[s];
-    const double step = rings.step(seg.line);
-    const double h = seg.centroid.z() - base_z;
-    const bool near = std::abs(h - c.dbh_height_m) <= c.dbh_window_m;
-    const bool far = !near && std::abs(h - c.dbh_height_m) <= c.silhouette_far_window_m &&
-                     h >= c.silhouette_min_height_m;
-    if (!(near || far) || step <= 0) continue;
+  struct LineView {
+    double lo = 1e30, hi = -1e30, step = 0, dist = 0;
+    bool lo_hidden = false, hi_hidden = false;
+    EdgeLine edge;
+  };
+  const auto see = [&](const ScanSegment& seg) {
+    LineView v;
+    v.step = rings.step(seg.line);
     const Eigen::Vector3d on = axis.point + a * ((seg.centroid.z() - axis.point.z()) / a.z());
-    const double bearing = std::atan2(on.y(), on.x()), dist = on.head<2>().norm() / lean;
-    double lo = 1e30, hi = -1e30, range = 1e30;
+    const double bearing = std::atan2(on.y(), on.x());
+    v.dist = on.head<2>().norm() / lean;
+    double range = 1e30;
     for (auto i : seg.indices) {
       const auto& p = cloud.points[i];
       const double az = std::remainder(std::atan2(p.y, p.x) - bearing, 2 * std::numbers::pi);
-      lo = std::min(lo, az);
-      hi = std::max(hi, az);
+      v.lo = std::min(v.lo, az);
+      v.hi = std::max(v.hi, az);
       range = std::min(range, double(std::hypot(p.x, p.y)));
     }
     // An edge whose neighbouring return is nearer by occluder_gap_m is hidden by an occluder.
-    const double window = 2.5 * step, nearer = range - c.occluder_gap_m;
-    const bool lo_hidden = rings.beside(seg.line, bearing + lo, -1, window) < nearer;
-    const bool hi_hidden = rings.beside(seg.line, bearing + hi, +1, window) < nearer;
+    const double window = 2.5 * v.step, nearer = range - c.occluder_gap_m;
+    v.lo_hidden = rings.beside(seg.line, bearing + v.lo, -1, window) < nearer;
+    v.hi_hidden = rings.beside(seg.line, bearing + v.hi, +1, window) < nearer;
     // For the edge fit an edge is closed only when the next column's beam passed behind the
     // whole stem (its far side lies at most a radius behind the nearest return).
-    {
-      const double shift = std::remainder(bearing - bearing0, 2 * std::numbers::pi);
-      const double far_m = range + axis.radius_m + c.edge_clear_m;
-      EdgeLine e{seg.centroid.z() - z0, lo + shift, hi + shift};
-      if (rings.passed_beside(seg.line, bearing + lo, -1, step, far_m))
-        e.lo_out_rad = e.lo_rad - step;
-      if (rings.passed_beside(seg.line, bearing + hi, +1, step, far_m))
-        e.hi_out_rad = e.hi_rad + step;
-      // Away from breast height only lines that see the whole stem count.
-      if (near)
-        edges.push_back(e);
-      else if (!lo_hidden && !hi_hidden)
-        far_edges.push_back(e);
+    const double shift = std::remainder(bearing - bearing0, 2 * std::numbers::pi);
+    const double far_m = range + axis.radius_m + c.edge_clear_m;
+    v.edge = {seg.centroid.z() - z0, v.lo + shift, v.hi + shift};
+    if (rings.passed_beside(seg.line, bearing + v.lo, -1, v.step, far_m))
+      v.edge.lo_out_rad = v.edge.lo_rad - v.step;
+    if (rings.passed_beside(seg.line, bearing + v.hi, +1, v.step, far_m))
+      v.edge.hi_out_rad = v.edge.hi_rad + v.step;
+    return v;
+  };
+  const auto from_dbh = [&](const ScanSegment& seg) {
+    return std::abs(seg.centroid.z() - base_z - c.dbh_height_m);
+  };
+  // Lines away from breast height (not below silhouette_min_height_m) that see both edges.
+  const auto measure_far = [&](SilhouetteRadius& r) {
+    std::vector<double> widths;
+    std::vector<EdgeLine> whole;
+    for (auto s : segment_ids) {
+      const auto& seg = segments[s];
+      const double d = from_dbh(seg);
+      if (d <= c.dbh_window_m || d > c.silhouette_far_window_m || rings.step(seg.line) <= 0 ||
+          seg.centroid.z() - base_z < c.silhouette_min_height_m)
+        continue;
+      const LineView v = see(seg);
+      if (v.lo_hidden || v.hi_hidden) continue;
+      whole.push_back(v.edge);
+      widths.push_back(v.dist * std::sin((v.hi - v.lo + v.step) / 2));
     }
-    if (!near) {
-      if (!lo_hidden && !hi_hidden) far_measured.push_back(dist * std::sin((hi - lo + step) / 2));
-      continue;
-    }
+    return edge_radius(whole, dist0, c, r) || middle_mean(widths, c.min_silhouette_lines, r);
+  };
+  std::vector<double> measured, bounds, guesses;
+  std::vector<EdgeLine> edges;
+  for (auto s : segment_ids) {
+    const auto& seg = segments[s];
+    if (from_dbh(seg) > c.dbh_window_m || rings.step(seg.line) <= 0) continue;
+    const LineView v = see(seg);
+    const double lo = v.lo, hi = v.hi, step = v.step, dist = v.dist;
+    const bool lo_hidden = v.lo_hidden, hi_hidden = v.hi_hidden;
+    edges.push_back(v.edge);
     if (lo_hidden && hi_hidden) continue;
     if (!lo_hidden && !hi_hidden) {
       measured.push_back(dist * std::sin((hi - lo + step) / 2));
@@ -148,9 +167,7 @@ SilhouetteRadius silhouette_radius(const PointCloud& cloud, std::span<const Scan
     // the bearing of a circle fitted to the sliver (drawn into the sliver, it reads the
     // diameter as little more than the sliver's width). Only for a stem the occluded lines saw
     // (one kept with a guess before): those lines replace a guess, they make no new tree.
-    if (!guesses.empty() && (edge_radius(far_edges, dist0, c, out) ||
-                             middle_mean(far_measured, c.min_silhouette_lines, out)))
-      return out;
+    if (!guesses.empty() && measure_far(out)) return out;
     if (!guesses.empty()) {
       std::nth_element(guesses.begin(), guesses.begin() + guesses.size() / 2, guesses.end());
       out.guess_m = std::max(guesses[guesses.size() / 2], out.lower_bound_m);
