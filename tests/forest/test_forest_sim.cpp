@@ -1,14 +1,14 @@
 // Trunks and DBH on simulated forest frames (VLP-16, OS1-64) against the scene's TreeTruth.
-// Seed 1 is the one the defaults were tuned on (seeds 7, 8, 9 were looked at too); seeds 2 and 3
-// are held out. Bounds sit a margin above/below the measured figures (printed). A detection
-// matches within 0.3 m at 1.3 m. A tree is scored when its stem at 1.3 m is within 15 m, the
-// frame holds >= 20 of its returns and at least half of its outline at 1.3 m is in view of the
-// sensor: rays cast in the truth scene across its silhouette, every other stem, branch and shrub
-// in the way (ScoreRule, visible_fraction in forest_eval.hpp). Less than half is a sliver beside
-// an occluder, whose diameter no single view holds; the rule looks only at the truth and the
-// sensor, never at what the detector flags. dbh_rmse() leaves out detections marked
-// dbh_uncertain (every diameter trees.csv gives: it leaves theirs empty), dbh_all_rmse() takes
-// every matched stem with those guesses; both are asserted.
+// Seed 1 is the one the defaults were tuned on (seeds 7, 8, 9 were looked at too; 4-6, 10 and
+// 15-26 for diagnosis); seeds 2, 3 and 11 are held out. Bounds sit a margin above/below the
+// measured figures (printed). A detection matches within 0.3 m at 1.3 m. A tree is scored when its
+// stem at 1.3 m is within 15 m, the frame holds >= 20 of its returns and at least half of its
+// outline at 1.3 m is in view of the sensor: rays cast in the truth scene across its silhouette,
+// every other stem, branch and shrub in the way (ScoreRule, visible_fraction in forest_eval.hpp).
+// Less than half is a sliver beside an occluder, whose diameter no single view holds; the rule
+// looks only at the truth and the sensor, never at what the detector flags. dbh_rmse() leaves out
+// detections marked dbh_uncertain (every diameter trees.csv gives: it leaves theirs empty),
+// dbh_all_rmse() takes every matched stem with those guesses; both are asserted.
 #include <gtest/gtest.h>
 
 #include "forest_eval.hpp"
@@ -65,6 +65,20 @@ TEST(ForestSim, Os1HeldOutSeed) {
   EXPECT_LE(s.dbh_rmse(), 0.016);
   EXPECT_LE(s.dbh_all_rmse(), 0.018);
   EXPECT_LE(s.uncertain, 5);
+}
+
+// Held-out seed 11, OS1-64: every diameter trees.csv gives is within the target; two stems
+// seen only as slivers beside a nearer stem on every line (0.319 m read 0.174 m) keep a guess
+// that trees.csv leaves empty, 2.30 cm with them.
+TEST(ForestSim, Os1ThirdHeldOutSeed) {
+  const auto s = run_frames(11, SensorModel::os1_64(), 10);
+  s.print("OS1-64 seed 11 (held out), 10 frames");
+  EXPECT_GE(s.recall(), 0.93);         // measured 0.953
+  EXPECT_GE(s.precision(), 0.96);      // 0.979
+  EXPECT_LE(s.pos_rmse(), 0.025);      // 0.0208
+  EXPECT_LE(s.dbh_rmse(), 0.016);      // 0.0136
+  EXPECT_LE(s.dbh_all_rmse(), 0.025);  // 0.0230
+  EXPECT_LE(s.uncertain, 4);           // 2
 }
 
 // Diagnosis seed 5, VLP-16: a 0.20 m stem at 13 m whose every line within 1 m of breast height
