@@ -42,6 +42,11 @@ std::vector<float> height_above_ground(const PointCloud& cloud,
   return h;
 }
 
+// A stem's id; "?" after it when its diameter is a guess (drawn thin, empty in trees.csv).
+std::string label(const forest::Tree& t) {
+  return std::to_string(t.id) + (t.dbh_uncertain ? "?" : "");
+}
+
 }  // namespace
 
 std::string trees_csv(const std::vector<forest::Tree>& trees, const Eigen::Vector3d& origin) {
@@ -98,13 +103,13 @@ void draw_trees(const PointCloud& cloud, const std::vector<std::uint8_t>& ground
       canvas.dot({cloud.points[i].x, cloud.points[i].y}, {0.15, 0.15, 0.2}, 0.7);
   for (const auto& t : trees) {
     const Eigen::Vector2d c = t.at_height(1.3).head<2>();
-    canvas.circle(c, t.dbh_m / 2, palette(t.id), 2.0);
-    canvas.text(c + Eigen::Vector2d(t.dbh_m / 2 + 0.1, 0), std::to_string(t.id), {0, 0, 0}, 11);
+    canvas.circle(c, t.dbh_m / 2, palette(t.id), t.dbh_uncertain ? 0.7 : 2.0);
+    canvas.text(c + Eigen::Vector2d(t.dbh_m / 2 + 0.1, 0), label(t), {0, 0, 0}, 11);
   }
   canvas.title(fmt::format("trunks: {} trees", trees.size()));
   canvas.legend({{"points 1.2-1.4 m above the ground", {0.15, 0.15, 0.2}},
                  {"other points", {0.85, 0.87, 0.9}},
-                 {"stem at 1.3 m (DBH)", palette(1)}});
+                 {"stem at 1.3 m (DBH; thin, id?: a guess)", palette(1)}});
   canvas.save_png(path, force);
 }
 
@@ -124,11 +129,12 @@ void draw_trunk_map(const std::vector<forest::Tree>& trees,
   canvas.polyline(xy, {0.2, 0.2, 0.2}, 2.0);
   for (const auto& t : trees) {
     const Eigen::Vector2d c = t.at_height(1.3).head<2>();
-    canvas.circle(c, std::max(t.dbh_m / 2, 0.05), palette(t.id), 2.0);
-    canvas.text(c + Eigen::Vector2d(t.dbh_m / 2 + 0.15, 0), std::to_string(t.id), {0, 0, 0}, 10);
+    canvas.circle(c, std::max(t.dbh_m / 2, 0.05), palette(t.id), t.dbh_uncertain ? 0.7 : 2.0);
+    canvas.text(c + Eigen::Vector2d(t.dbh_m / 2 + 0.15, 0), label(t), {0, 0, 0}, 10);
   }
   canvas.title(fmt::format("trunk map: {} trees, {} scans", trees.size(), path.size()));
-  canvas.legend({{"driven path", {0.2, 0.2, 0.2}}, {"stem at 1.3 m (DBH)", palette(1)}});
+  canvas.legend(
+      {{"driven path", {0.2, 0.2, 0.2}}, {"stem at 1.3 m (DBH; thin, id?: a guess)", palette(1)}});
   canvas.save_png(file, force);
 }
 
