@@ -165,8 +165,19 @@ void run(const TrunksOptions& o) {
                          cloud.fields.ring ? "rings" : "horizontal slices"),
              ground.ground_count, result.segments, result.stacks, result.trees.size(),
              out.string());
-  if (!o.truth.empty())
-    print_trunk_scores(result.trees, read_true_trees(o.truth, Pose::Identity()), {});
+  if (!o.truth.empty()) {
+    // A simulator scan lies in its sensor's frame: the truth is moved into it from the world
+    // with the scan's pose, and scored within the 15 m of the sensor.
+    const auto T_world_scan = simulator_scan_pose(o.input);
+    if (sweep && !T_world_scan)
+      warn("--truth: no simulator poses.txt for this scan; the truth is taken in its frame");
+    const Pose T_scan_world = T_world_scan ? T_world_scan->inverse() : Pose::Identity();
+    const auto truth = read_true_trees(o.truth, T_scan_world);
+    if (sweep)
+      print_trunk_scores(result.trees, truth, {Eigen::Vector3d::Zero()}, 15.0);
+    else
+      print_trunk_scores(result.trees, truth, {});
+  }
 }
 
 }  // namespace

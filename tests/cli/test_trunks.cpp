@@ -1,6 +1,7 @@
 // End-to-end: fieldlidar trunks on a real pine plot (terrestrial scan, no rings).
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -88,6 +89,21 @@ TEST(CliTrunks, SimulatedDriveTracksPosesAndMapsTrunks) {
   EXPECT_GE(rows.size(), 10u);
   for (const auto& t : rows) EXPECT_GE(t[11], 5.0);  // seen in five scans or more
   EXPECT_GT(std::filesystem::file_size(out / "trees.png"), 1000u);
+  // One scan of the drive against the same truth: the truth is moved into the scan's frame with
+  // the simulator's pose of that scan (it matched nothing in the world frame) and scored within
+  // 15 m of the sensor.
+  r = run_cli("trunks " + quoted(dir / "sim" / "pcd" / "000029.pcd") + " --out " +
+              quoted(dir / "one") + " --truth " + quoted(dir / "sim" / "trees.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto at = r.output.find("within 15 m of the sensor");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  double precision = 0, recall = 0;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + r.output.find("precision", at),
+                        "precision %lf, recall %lf", &precision, &recall),
+            2)
+      << r.output;
+  EXPECT_GE(precision, 0.95) << r.output;
+  EXPECT_GE(recall, 0.85) << r.output;
   r = run_cli("trunks " + quoted(dir / "sim" / "velodyne") + " --out " + quoted(dir / "bin"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("frame 0 has no ring field"), std::string::npos) << r.output;

@@ -1,6 +1,8 @@
 // The simulator's trees.csv read as true trees, and detection scores of `fieldlidar trunks`.
 #include "support/trunks_truth.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <exception>
 #include <string>
@@ -9,6 +11,7 @@
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/file_util.hpp"
+#include "fieldlidar/io/trajectory_io.hpp"
 
 namespace fieldlidar::app {
 
@@ -50,7 +53,7 @@ std::vector<TrueTree> read_true_trees(const std::filesystem::path& path,
 }
 
 void print_trunk_scores(const std::vector<forest::Tree>& trees, const std::vector<TrueTree>& truth,
-                        const std::vector<Eigen::Vector3d>& path) {
+                        const std::vector<Eigen::Vector3d>& path, double radius_m) {
   auto near_path = [&](const Eigen::Vector3d& p, double r) {
     if (path.empty()) return true;
     for (const auto& q : path)
@@ -60,10 +63,10 @@ void print_trunk_scores(const std::vector<forest::Tree>& trees, const std::vecto
   std::vector<char> used(truth.size(), 0);
   int scored = 0, detected = 0, matched = 0, uncertain = 0;
   double dbh_sq = 0, dbh_sum = 0, pos_sq = 0;
-  for (const auto& t : truth) scored += near_path(t.at_dbh, 10.0);
+  for (const auto& t : truth) scored += near_path(t.at_dbh, radius_m);
   for (const auto& d : trees) {
     const Eigen::Vector3d p = d.at_height(1.3);
-    if (!near_path(p, 10.5)) continue;
+    if (!near_path(p, radius_m + 0.5)) continue;
     std::size_t best = truth.size();
     double bd = 0.3;
     for (std::size_t k = 0; k < truth.size(); ++k)
@@ -71,7 +74,7 @@ void print_trunk_scores(const std::vector<forest::Tree>& trees, const std::vecto
         bd = (truth[k].at_dbh - p).head<2>().norm();
         best = k;
       }
-    if (best < truth.size() && !near_path(truth[best].at_dbh, 10.0)) {
+    if (best < truth.size() && !near_path(truth[best].at_dbh, radius_m)) {
       used[best] = 1;
       continue;
     }
@@ -92,9 +95,26 @@ void print_trunk_scores(const std::vector<forest::Tree>& trees, const std::vecto
       "truth: {} trees{}, {} detected, {} matched: precision {:.3f}, recall {:.3f}, DBH RMSE "
       "{:.4f} m, bias {:+.4f} m (over {} with a measured DBH; {} marked uncertain), position "
       "RMSE {:.4f} m\n",
-      scored, path.empty() ? "" : " within 10 m of the path", detected, matched,
-      detected ? double(matched) / detected : 1.0, scored ? double(matched) / scored : 1.0,
-      std::sqrt(dbh_sq / md), dbh_sum / md, matched - uncertain, uncertain, std::sqrt(pos_sq / m));
+      scored, path.empty() ? "" : fmt::format(" within {:g} m of the sensor's path", radius_m),
+      detected, matched, detected ? double(matched) / detected : 1.0,
+      scored ? double(matched) / scored : 1.0, std::sqrt(dbh_sq / md), dbh_sum / md,
+      matched - uncertain, uncertain, std::sqrt(pos_sq / m));
+}
+
+std::optional<Pose> simulator_scan_pose(const std::filesystem::path& scan) {
+  const auto folder = scan.parent_path();
+  const std::string stem = scan.stem().string();
+  if (folder.filename() != "pcd" || stem.empty() || stem.size() > 9 ||
+      !std::all_of(stem.begin(), stem.end(), [](unsigned char c) { return std::isdigit(c); }))
+    return std::nullopt;
+  const auto poses_file = folder.parent_path() / "poses.txt";
+  if (!std::filesystem::exists(poses_file)) return std::nullopt;
+  const auto poses = io::read_kitti_poses(poses_file);
+  const std::size_t index = std::stoul(stem);
+  if (index >= poses.size())
+    throw Error(
+        fmt::format("{}: no pose for scan {} ({} rows)", poses_file.string(), index, poses.size()));
+  return poses[index].pose;
 }
 
 }  // namespace fieldlidar::app

@@ -2,6 +2,7 @@
 // `fieldlidar trunks --truth`: the simulator's trees.csv and detection scores against it.
 
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -21,10 +22,14 @@ struct TrueTree {
 /// ...), moved by `T_frame_world`; a row that is not numbers raises Error naming file and line.
 std::vector<TrueTree> read_true_trees(const std::filesystem::path& path, const Pose& T_frame_world);
 
-/// Prints detection scores of `trees` against the truth; with a path, only trees within 10 m of
-/// it count (and detections farther than 10.5 m are not scored). A match lies within 0.3 m at
-/// 1.3 m.
+/// Prints detection scores of `trees` against the truth; with a path, only trees within
+/// `radius_m` of it count (and detections farther than `radius_m` + 0.5 m are not scored). A
+/// match lies within 0.3 m at 1.3 m.
 void print_trunk_scores(const std::vector<forest::Tree>& trees, const std::vector<TrueTree>& truth,
-                        const std::vector<Eigen::Vector3d>& path);
+                        const std::vector<Eigen::Vector3d>& path, double radius_m = 10.0);
+
+/// The simulator's pose of a scan written as `<folder>/pcd/<index>.pcd` (world from sensor, from
+/// `<folder>/poses.txt`), or nothing when the scan does not lie in a simulator folder.
+std::optional<Pose> simulator_scan_pose(const std::filesystem::path& scan);
 
 }  // namespace fieldlidar::app
