@@ -101,6 +101,21 @@ void Loop::plan(const std::string& trigger) {
     planning::HybridAStar planner(grid, robot_, big);
     p = planner.plan(me(), target);
   }
+  if (p.status == PlanStatus::kStartInCollision && cfg_.escape_max_m > 0) {
+    // Beside an obstacle: out by the shortest move the step check allows, then on by a plan.
+    const double bearing = std::atan2(target.y_m - me().y_m, target.x_m - me().x_m);
+    const bool behind = std::cos(planning::wrap_angle(bearing - me().yaw_rad)) < 0;
+    if (auto out = escape_path(*check_map_, blocked_, me(), behind, cfg_.escape_max_m)) {
+      planning::HybridAStar planner(grid, robot_, planner_cfg_);
+      planning::PlanResult q = planner.plan(out->back().pose, target);
+      if (q.ok()) {
+        out->insert(out->end(), q.path.begin() + 1, q.path.end());
+        q.path = std::move(*out);
+        p = std::move(q);
+        ++r_.escapes;
+      }
+    }
+  }
   if (p.status == PlanStatus::kStartInCollision) {
     // The robot stands there: the cells under it are passable whatever the map says (a halo,
     // a margin); clear them for the planner only (the step check still guards new cells).

@@ -75,6 +75,14 @@ TEST(Navigate, BadInputIsAnError) {
   bad.start_look_rad = NAN;
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
                Error);
+  bad = {};
+  bad.approach_m = -1.0;
+  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
+               Error);
+  bad = {};
+  bad.escape_max_m = NAN;
+  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
+               Error);
 }
 
 // A goal whose footprint a blocked cell (an obstacle's halo) touches is moved to the nearest free

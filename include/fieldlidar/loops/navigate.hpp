@@ -96,6 +96,24 @@ struct NavigateConfig {
   double start_look_rad = 0.0;
   /// The start look's turn rate (rad/s).
   double look_yaw_rate_rad_s = 0.6;
+  /// Approach: a robot does not appear at its start, it drives there, and what its LiDAR saw on
+  /// the way in is in its map. Before the first sweep at the start, the sensor sweeps from poses
+  /// along the last approach_m (m) driven to the start (straight back along the start heading,
+  /// one sweep every approach_sweep_m) and the sweeps are fused into the map, placed by their
+  /// true poses (the robot knows where it is on arrival). The approach ends where the robot
+  /// could not have come from: its footprint on a truth-impassable cell or off the scene (a
+  /// start 3 m from the scene's edge has a 2.5 m approach). 0: off, a robot switched on where it
+  /// stands, with its blind disk (4.5 m for a VLP-16 at 1.2 m) unseen.
+  double approach_m = 0.0;
+  double approach_sweep_m = 0.5;
+  /// A robot whose pose the planner calls in collision (beside an obstacle, on its halo: the
+  /// planner's footprint is inflated by its margin, the sub-cell and the heading bin; the step
+  /// check's is exact) first takes the shortest straight move or R_min arc, up to escape_max_m
+  /// (m), that the step check allows and that ends on a pose the planner calls free, and plans
+  /// on from there (escape_path). Only when there is none are the cells within 0.3 m of the
+  /// footprint cleared for the planner, which then plans through cells the step check refuses
+  /// (emergency stops, re-planned the same way). 0: that clearing only.
+  double escape_max_m = 1.0;
   double control_period_s = 0.1;  ///< follower and motion step
   double scan_period_s = 0.5;     ///< one sweep is mapped this often (the sensor spins at 10 Hz)
   double replan_period_s = 5.0;   ///< re-plan at least this often (s)
@@ -167,9 +185,11 @@ struct NavigateResult {
   std::size_t frames_on_impassable = 0;
   int replans = 0;  ///< plans after the first
   int safety_stops = 0;
+  int escapes = 0;  ///< plans that began with an escape (NavigateConfig::escape_max_m)
   PoseSource pose_source = PoseSource::kTruth;
   double max_pose_error_m = 0;            ///< largest distance of the robot's pose from the truth
   std::size_t odometry_unregistered = 0;  ///< sweeps the odometry kept at its motion prior
+  std::size_t approach_sweeps = 0;        ///< sweeps of the approach fused before the start
   std::size_t scans = 0;
   double duration_s = 0;  ///< simulated time
   double wall_s = 0;      ///< the run's wall-clock time
