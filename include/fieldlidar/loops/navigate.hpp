@@ -103,8 +103,17 @@ struct NavigateConfig {
   /// true poses (the robot knows where it is on arrival). The approach ends where the robot
   /// could not have come from: its footprint on a truth-impassable cell or off the scene (a
   /// start 3 m from the scene's edge has a 2.5 m approach). 0: off, a robot switched on where it
-  /// stands, with its blind disk (4.5 m for a VLP-16 at 1.2 m) unseen.
-  double approach_m = 0.0;
+  /// stands, with its blind disk (4.5 m for a VLP-16 at 1.2 m) unseen. 2 m by default, chosen on
+  /// the seed-0 pairs: it takes the frames on truth-impassable cells of ne_to_hill (a 0.47 m rock
+  /// 0.4 m beside the chassis) 28 -> 0 and of round_terrace 2 -> 0, every seed-0 pair arrives or
+  /// is reported unreachable as expected, ratios <= 1.15 but round_ditch 1.220 -> 1.185. The
+  /// drives swing with the length (ne_to_hill: 1.5 and 2.5 m end unreachable, the east gap
+  /// closed by the map; 3-10 m: 1.326; round_ditch 1.47-1.56 at 3-10 m, 20 frames at 4 m;
+  /// round_hill unreachable at 8 and 10 m) and with the sensor noise (sim_seed 2: 0 frames, was
+  /// 37, but ne_to_hill unreachable; sim_seed 3: 5 frames, was 37). Held-out seed 1:
+  /// round_terrace 33 -> 39 frames (turning north by the terrace's north-west corner),
+  /// round_hill 1.140 -> 1.168, south_east 1.038 -> 1.156.
+  double approach_m = 2.0;
   double approach_sweep_m = 0.5;
   /// A robot whose pose the planner calls in collision (beside an obstacle, on its halo: the
   /// planner's footprint is inflated by its margin, the sub-cell and the heading bin; the step
