@@ -62,9 +62,11 @@ constexpr Gap kKnownGapsSeed0[] = {{"round_ditch", 1.20, 0}};
 
 /// Seed 1 (held out):
 /// - round_ditch: as on seed 0, ratio 1.198 (1.189 without the approach).
-/// - round_terrace: turning north by the terrace's north-west corner, 3-4 m from the start:
-///   39 frames with the approach (33 without, when the terrace's west cliff was in the blind
-///   disk), ratio 1.004 (1.060).
+/// - round_terrace: driving north along the terrace's west cliff to its north-west corner,
+///   1.5-6 m from the start (t 2.9-8.1 s), the footprint on the cliff's truth-impassable cells:
+///   39 frames with the approach (33 without, t 2.8-6.0 s: the cliff 4 m from the start is in
+///   the blind disk, and a straight approach from the west shows it no better), ratio 1.004
+///   (1.060).
 /// - round_hill: 1.168 with the approach (1.140 without).
 /// - south_east: 1.156 with the approach (1.038 without; an 11.4 m drive).
 /// - diagonal: the goal sits in a pocket 0.3-0.6 m from two bushes and a rock; the map's step

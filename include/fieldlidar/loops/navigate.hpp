@@ -111,8 +111,8 @@ struct NavigateConfig {
   /// closed by the map; 3-10 m: 1.326; round_ditch 1.47-1.56 at 3-10 m, 20 frames at 4 m;
   /// round_hill unreachable at 8 and 10 m) and with the sensor noise (sim_seed 2: 0 frames, was
   /// 37, but ne_to_hill unreachable; sim_seed 3: 5 frames, was 37). Held-out seed 1:
-  /// round_terrace 33 -> 39 frames (turning north by the terrace's north-west corner),
-  /// round_hill 1.140 -> 1.168, south_east 1.038 -> 1.156.
+  /// round_terrace 33 -> 39 frames (driving north along the terrace's west cliff, 1.5-6 m from the
+  /// start), round_hill 1.140 -> 1.168, south_east 1.038 -> 1.156.
   double approach_m = 2.0;
   double approach_sweep_m = 0.5;
   /// A robot whose pose the planner calls in collision (beside an obstacle, on its halo: the
