@@ -41,6 +41,7 @@ struct NavigateOptions {
   double unknown_tau = loops::NavigateConfig{}.planner.map.unknown_tau;
   double start_creep_m = loops::NavigateConfig{}.start_creep_m;
   double approach_m = loops::NavigateConfig{}.approach_m;
+  double start_disk_tau = loops::NavigateConfig{}.start_disk_tau;
   double lidar_pitch_deg = loops::NavigateConfig{}.lidar_pitch_deg;
   double start_look_rad = loops::NavigateConfig{}.start_look_rad;
   bool force = false;
@@ -118,6 +119,7 @@ void run(const NavigateOptions& o) {
   cfg.planner.map.unknown_tau = o.unknown_tau;
   cfg.start_creep_m = o.start_creep_m;
   cfg.approach_m = o.approach_m;
+  cfg.start_disk_tau = o.start_disk_tau;
   cfg.lidar_pitch_deg = o.lidar_pitch_deg;
   cfg.start_look_rad = o.start_look_rad;
   cfg.sim_seed = o.noise_seed;
@@ -279,6 +281,11 @@ void add_navigate_command(CLI::App& app) {
                   "not have come from); 0: off")
       ->capture_default_str()
       ->check(real_in(0, 30));
+  cmd->add_option("--start-disk-tau", o->start_disk_tau,
+                  "Cells within the blind radius of the start no sweep has seen are planned at "
+                  "this traversability (costlier than seen ground); 0: off, unknown")
+      ->capture_default_str()
+      ->check(real_in(0, 1));
   cmd->add_option("--pose-source", o->pose_source,
                   "The pose the robot maps, plans and drives by: truth, or odometry (LiDAR "
                   "odometry with IMU and wheels at every mapped sweep; the truth still scores)")

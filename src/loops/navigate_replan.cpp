@@ -81,6 +81,9 @@ void Loop::plan(const std::string& trigger) {
   if (cfg_.shadow_radius_m > blind_radius_m_)
     cost_shadows(grid, {me().x_m, me().y_m}, blind_radius_m_ + grid.geometry().resolution_m,
                  cfg_.shadow_radius_m, float(cfg_.shadow_tau));
+  if (cfg_.start_disk_tau > 0)
+    cost_shadows(grid, {r_.start.x_m, r_.start.y_m}, 0.0, blind_radius_m_,
+                 float(cfg_.start_disk_tau));
   // A goal whose footprint the map blocks (an obstacle's halo) is moved to the nearest free pose
   // within the goal tolerance less 0.1 m for the follower's error, where arriving still counts.
   Pose2 target = goal_;

@@ -83,6 +83,10 @@ TEST(Navigate, BadInputIsAnError) {
   bad.escape_max_m = NAN;
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
                Error);
+  bad = {};
+  bad.start_disk_tau = 2.0;
+  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
+               Error);
 }
 
 // A goal whose footprint a blocked cell (an obstacle's halo) touches is moved to the nearest free
