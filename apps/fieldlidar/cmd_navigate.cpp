@@ -40,6 +40,8 @@ struct NavigateOptions {
   double shadow_radius_m = loops::NavigateConfig{}.shadow_radius_m;
   double unknown_tau = loops::NavigateConfig{}.planner.map.unknown_tau;
   double start_creep_m = loops::NavigateConfig{}.start_creep_m;
+  double approach_m = loops::NavigateConfig{}.approach_m;
+  double start_disk_tau = loops::NavigateConfig{}.start_disk_tau;
   double lidar_pitch_deg = loops::NavigateConfig{}.lidar_pitch_deg;
   double start_look_rad = loops::NavigateConfig{}.start_look_rad;
   bool force = false;
@@ -116,6 +118,8 @@ void run(const NavigateOptions& o) {
   cfg.shadow_radius_m = o.shadow_radius_m;
   cfg.planner.map.unknown_tau = o.unknown_tau;
   cfg.start_creep_m = o.start_creep_m;
+  cfg.approach_m = o.approach_m;
+  cfg.start_disk_tau = o.start_disk_tau;
   cfg.lidar_pitch_deg = o.lidar_pitch_deg;
   cfg.start_look_rad = o.start_look_rad;
   cfg.sim_seed = o.noise_seed;
@@ -271,6 +275,17 @@ void add_navigate_command(CLI::App& app) {
                   "one blind radius, 0: off")
       ->capture_default_str()
       ->check(real_in(-1, 20));
+  cmd->add_option("--approach", o->approach_m,
+                  "The last metres (m) driven to the start, straight back along its heading, "
+                  "whose sweeps are in the map before the first plan (cut where the robot could "
+                  "not have come from); 0: off")
+      ->capture_default_str()
+      ->check(real_in(0, 30));
+  cmd->add_option("--start-disk-tau", o->start_disk_tau,
+                  "Cells within the blind radius of the start no sweep has seen are planned at "
+                  "this traversability (costlier than seen ground); 0: off, unknown")
+      ->capture_default_str()
+      ->check(real_in(0, 1));
   cmd->add_option("--pose-source", o->pose_source,
                   "The pose the robot maps, plans and drives by: truth, or odometry (LiDAR "
                   "odometry with IMU and wheels at every mapped sweep; the truth still scores)")

@@ -67,6 +67,14 @@ NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
         "navigate: lidar_pitch_deg must be in [-30, 30] (is {}), start_look_rad finite and >= 0 "
         "(is {}), look_yaw_rate_rad_s > 0 (is {})",
         config.lidar_pitch_deg, config.start_look_rad, config.look_yaw_rate_rad_s));
+  if (!(config.approach_m >= 0.0 && config.approach_m <= 100.0) ||
+      !(config.approach_sweep_m > 0.0) ||
+      !(config.escape_max_m >= 0.0 && config.escape_max_m <= 10.0) ||
+      !(config.start_disk_tau >= 0.0 && config.start_disk_tau <= 1.0))
+    throw Error(fmt::format(
+        "navigate: approach_m must be in [0, 100] (is {}), approach_sweep_m > 0 (is "
+        "{}), escape_max_m in [0, 10] (is {}) and start_disk_tau in [0, 1] (is {})",
+        config.approach_m, config.approach_sweep_m, config.escape_max_m, config.start_disk_tau));
   detail::Loop loop(scene, sensor, config);
   return loop.run(start, goal);
 }

@@ -36,6 +36,9 @@ class Loop {
  private:
   void score_truth_plan();
   void scan();
+  /// The approach's sweeps (NavigateConfig::approach_m) fused into the map before the first sweep
+  /// at the start; returns how many.
+  std::size_t approach();
   std::string replan_trigger();
   void plan(const std::string& trigger);
   /// Detour hold (NavigateConfig::detour_hold_ratio), before a plan for `trigger` is searched:

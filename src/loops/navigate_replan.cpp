@@ -81,6 +81,9 @@ void Loop::plan(const std::string& trigger) {
   if (cfg_.shadow_radius_m > blind_radius_m_)
     cost_shadows(grid, {me().x_m, me().y_m}, blind_radius_m_ + grid.geometry().resolution_m,
                  cfg_.shadow_radius_m, float(cfg_.shadow_tau));
+  if (cfg_.start_disk_tau > 0)
+    cost_shadows(grid, {r_.start.x_m, r_.start.y_m}, 0.0, blind_radius_m_,
+                 float(cfg_.start_disk_tau));
   // A goal whose footprint the map blocks (an obstacle's halo) is moved to the nearest free pose
   // within the goal tolerance less 0.1 m for the follower's error, where arriving still counts.
   Pose2 target = goal_;
@@ -100,6 +103,21 @@ void Loop::plan(const std::string& trigger) {
     big.max_expansions = int(big.max_expansions * cfg_.retry_budget_factor);
     planning::HybridAStar planner(grid, robot_, big);
     p = planner.plan(me(), target);
+  }
+  if (p.status == PlanStatus::kStartInCollision && cfg_.escape_max_m > 0) {
+    // Beside an obstacle: out by the shortest move the step check allows, then on by a plan.
+    const double bearing = std::atan2(target.y_m - me().y_m, target.x_m - me().x_m);
+    const bool behind = std::cos(planning::wrap_angle(bearing - me().yaw_rad)) < 0;
+    if (auto out = escape_path(*check_map_, blocked_, me(), behind, cfg_.escape_max_m)) {
+      planning::HybridAStar planner(grid, robot_, planner_cfg_);
+      planning::PlanResult q = planner.plan(out->back().pose, target);
+      if (q.ok()) {
+        out->insert(out->end(), q.path.begin() + 1, q.path.end());
+        q.path = std::move(*out);
+        p = std::move(q);
+        ++r_.escapes;
+      }
+    }
   }
   if (p.status == PlanStatus::kStartInCollision) {
     // The robot stands there: the cells under it are passable whatever the map says (a halo,

@@ -32,6 +32,7 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
   truth_blocked_.resize(passable.size());
   for (std::size_t i = 0; i < passable.size(); ++i) truth_blocked_[i] = passable[i] < 0.5f;
   score_truth_plan();
+  approach();
 
   const double straight = std::hypot(goal.x_m - start.x_m, goal.y_m - start.y_m);
   const double max_time =

@@ -1,8 +1,6 @@
 // The navigate loop's senses: one sweep mapped (and the planner's view of the map rebuilt), the
 // robot's footprint against the built map (the emergency stop) and against the truth (the score).
 
-#include <algorithm>
-
 #include "fieldlidar/loops/navigate_maps.hpp"
 #include "navigate_loop.hpp"
 
@@ -21,12 +19,8 @@ void Loop::scan() {
 }
 
 bool Loop::enters_known_blocked(const Pose2& next) const {
-  const auto now = footprint_cells(area_, me(), robot_);
-  for (long c : footprint_cells(area_, next, robot_)) {
-    if (c < 0) return std::find(now.begin(), now.end(), c) == now.end();
-    if (blocked_[std::size_t(c)] && std::find(now.begin(), now.end(), c) == now.end()) return true;
-  }
-  return false;
+  return footprint_enters_blocked(area_, blocked_, footprint_cells(area_, me(), robot_), next,
+                                  robot_);
 }
 
 bool Loop::on_truth_impassable(const Pose2& pose) const {

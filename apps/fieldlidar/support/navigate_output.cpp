@@ -158,6 +158,8 @@ nlohmann::json navigate_summary(const loops::NavigateResult& r) {
   j["plans"] = r.plans.size();
   j["replans"] = r.replans;
   j["safety_stops"] = r.safety_stops;
+  j["escapes"] = r.escapes;
+  j["approach_sweeps"] = r.approach_sweeps;
   j["scans"] = r.scans;
   j["duration_s"] = r.duration_s;
   j["wall_s"] = r.wall_s;

@@ -2,6 +2,7 @@
 /// \file The maps of the navigate loop: the truth as the planner reads it, the fused map cut to
 /// the operating area, and footprints against either.
 
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -57,6 +58,25 @@ std::optional<planning::Pose2> nearest_free_pose(const planning::PlanningMap& ma
 /// sample every `step_m`.
 planning::Path straight_path(const planning::Pose2& start, double length_m, bool reverse,
                              double step_m = 0.1);
+
+/// The step check of the navigate loop: the exact footprint at `next` enters a cell that
+/// `blocked` (known_blocked on `area`) marks, or leaves the grid, other than the cells in
+/// `standing` (footprint_cells of the pose the robot stands on: it may stay where it is).
+bool footprint_enters_blocked(const GridGeometry& area, const std::vector<std::uint8_t>& blocked,
+                              const std::vector<long>& standing, const planning::Pose2& next,
+                              const terrain::RobotConfig& robot);
+
+/// The way out of a pose `from` that `map` does not call free (its footprint mask, inflated by
+/// the margin, the sub-cell and the heading bin, touches a blocked cell: the robot stands beside
+/// an obstacle or on its halo): the shortest straight move or arc at the robot's R_min (straight
+/// first, towards the goal's side first: backwards when `goal_behind`), in steps of `step_m` up
+/// to `max_m`, every pose of which passes the step check (footprint_enters_blocked against
+/// `blocked`, standing at `from`) and whose last pose `map` calls free. Starts with `from`;
+/// nullopt when there is none.
+std::optional<planning::Path> escape_path(const planning::PlanningMap& map,
+                                          const std::vector<std::uint8_t>& blocked,
+                                          const planning::Pose2& from, bool goal_behind,
+                                          double max_m, double step_m = 0.05);
 
 /// Marks the cells under the robot at `pose` (its rectangle grown by `grow_m`) as known passable
 /// at tau >= 0.5: the robot stands there, so the planner may start there.

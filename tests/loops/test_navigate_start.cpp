@@ -1,0 +1,103 @@
+// The navigate loop's start beside an obstacle: the approach's sweeps put a rock in the roof
+// LiDAR's blind disk into the map before the first plan (NavigateConfig::approach_m), and a pose
+// the planner calls in collision is left by the shortest move the step check allows
+// (escape_path).
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "fieldlidar/core/labels.hpp"
+#include "fieldlidar/loops/navigate.hpp"
+#include "fieldlidar/loops/navigate_maps.hpp"
+#include "fieldlidar/sim/mesh.hpp"
+#include "fieldlidar/terrain/traversability.hpp"
+
+using namespace fieldlidar;
+using fieldlidar::planning::Pose2;
+
+namespace {
+
+/// Flat ground over [0, 30] x [0, 20] m, the seed's 1.2 m mast, and a 0.6 x 0.6 x 0.47 m rock
+/// whose near side is 0.4 m beside the chassis of a robot at (10, 10) heading east: under the
+/// lowest beam of a VLP-16 (-15 deg) from anywhere within 2.7 m of it.
+sim::Scene rock_beside_start() {
+  sim::Scene scene(sim::SceneKind::kCustom,
+                   sim::HeightField({0, 0}, {30, 20}, 0.5, [](double, double) { return 0.0; }));
+  scene.set_sensor_height_m(1.2);
+  const Eigen::Vector2d rock(10.6, 10.99);
+  scene.add_mesh(sim::make_aabb({rock.x() - 0.3, rock.y() - 0.3, 0.0},
+                                {rock.x() + 0.3, rock.y() + 0.3, 0.47},
+                                make_label(LabelClass::kObstacle)));
+  scene.add_obstacle({rock, 0.3, 0.0, 0.47, LabelClass::kObstacle});
+  return scene;
+}
+
+}  // namespace
+
+// The goal is north-east, so the first plan turns left at once, across the rock's cells. Without
+// the approach the rock is unseen and the footprint crosses it; with the last 2 m driven to the
+// start swept into the map, the plan keeps off it.
+TEST(NavigateStart, ApproachSweepsShowARockInTheBlindDisk) {
+  const sim::Scene scene = rock_beside_start();
+  const Pose2 start{10, 10, 0}, goal{13, 15, std::numbers::pi / 2};
+  loops::NavigateConfig cfg;
+  for (double approach : {0.0, 2.0}) {
+    cfg.approach_m = approach;
+    const auto r = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
+    std::printf(
+        "approach %.1f m: %s (%s), %zu approach sweeps, ratio %.3f, %zu frames on "
+        "impassable, %.1f s wall\n",
+        approach, loops::to_string(r.outcome), r.reason.c_str(), r.approach_sweeps, r.length_ratio,
+        r.frames_on_impassable, r.wall_s);
+    if (approach == 0.0) {
+      EXPECT_EQ(r.approach_sweeps, 0u);
+      EXPECT_GT(r.frames_on_impassable, 0u);
+    } else {
+      EXPECT_EQ(r.approach_sweeps, 4u);
+      EXPECT_EQ(r.outcome, loops::NavigateOutcome::kArrived) << r.reason;
+      EXPECT_EQ(r.frames_on_impassable, 0u);
+      EXPECT_LE(r.length_ratio, 1.15);
+    }
+  }
+}
+
+// A robot standing 0.1 m from a blocked cell on its left: the planner's inflated footprint
+// touches it, the exact one does not. The escape is a short move, each pose of which keeps the
+// exact footprint off the blocked cell, ending on a pose the planner calls free; with blocked
+// cells on every side within reach there is none.
+TEST(NavigateStart, EscapeLeavesAPoseBesideAnObstacle) {
+  Grid2D grid(GridGeometry{0.1, {0, 0}, 60, 40});
+  auto tau = grid.add_layer(terrain::layer::kTraversability, 1.f);
+  grid.add_layer(terrain::layer::kPoints, 10.f);
+  const GridGeometry& g = grid.geometry();
+  auto block = [&](int ix, int iy) { tau[g.linear_index(ix, iy)] = 0.f; };
+  // The robot at (3, 2) heading east (x 2.535-3.465, y 1.71-2.29); a rock at x 2.8-3.2,
+  // y 2.3-2.4.
+  for (int ix = 28; ix < 32; ++ix) block(ix, 23);
+  terrain::RobotConfig robot;
+  planning::MapReadConfig read;
+  const Pose2 from{3.0, 2.0, 0.0};
+  {
+    const planning::PlanningMap map(grid, robot, read);
+    ASSERT_FALSE(map.pose_free(from));
+    const auto blocked = loops::known_blocked(grid);
+    const auto standing = loops::footprint_cells(g, from, robot);
+    EXPECT_FALSE(loops::footprint_enters_blocked(g, blocked, standing, from, robot));
+    const auto out = loops::escape_path(map, blocked, from, false, 1.0);
+    ASSERT_TRUE(out.has_value());
+    EXPECT_LE(planning::path_length_m(*out), 1.0 + 1e-9);
+    EXPECT_TRUE(map.pose_free(out->back().pose));
+    for (const auto& p : *out)
+      EXPECT_FALSE(loops::footprint_enters_blocked(g, blocked, standing, p.pose, robot));
+    std::printf("escape: %zu poses, %.2f m, to (%.2f, %.2f, %.2f)\n", out->size(),
+                planning::path_length_m(*out), out->back().pose.x_m, out->back().pose.y_m,
+                out->back().pose.yaw_rad);
+  }
+  // Walled in 0.1 m from the footprint on every side: no escape.
+  for (int ix = 20; ix < 40; ++ix) block(ix, 16), block(ix, 23);
+  for (int iy = 16; iy < 24; ++iy) block(24, iy), block(35, iy);
+  const planning::PlanningMap map(grid, robot, read);
+  EXPECT_FALSE(loops::escape_path(map, loops::known_blocked(grid), from, false, 1.0).has_value());
+}
