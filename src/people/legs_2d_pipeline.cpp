@@ -69,14 +69,17 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   std::vector<double> score;
   // Leg-sized segments (compact blobs: a leg, a post, a person's two legs merged) teach the
   // world occupancy grid with their own weight (compact_occupancy_weight), and the person grid
-  // with unjudged_occupancy_weight when the classifier cannot judge them (too few returns, too
-  // far). Per point: 0 not compact, 1 compact and judged, 2 compact and unjudged.
+  // with unjudged_occupancy_weight when the classifier cannot judge them (too few returns and
+  // not too thin for a leg, or too far). Per point: 0 not compact, 1 compact and judged, 2
+  // compact and unjudged.
   std::vector<char> compact(pts.size(), 0);
   const auto segments = split_by_jump(pts, dc.segment_jump_m);
   const double judged2 = config_.judged_range_max_m * config_.judged_range_max_m;
   for (const auto& [b, e] : segments)
     if ((pts[e - 1] - pts[b]).norm() <= config_.compact_chord_max_m) {
-      const bool judged = e - b >= std::size_t(std::max(0, config_.judged_points_min)) &&
+      const double chord = (pts[e - 1] - pts[b]).norm();
+      const bool judged = (e - b >= std::size_t(std::max(0, config_.judged_points_min)) ||
+                           chord <= config_.judged_chord_max_m) &&
                           (0.5 * (pts[b] + pts[e - 1])).squaredNorm() <= judged2;
       std::fill(compact.begin() + std::ptrdiff_t(b), compact.begin() + std::ptrdiff_t(e),
                 char(judged ? 1 : 2));
