@@ -179,8 +179,9 @@ struct LegPipeline2DConfig {
   /// negative_2.bag with classifiers trained without the topic scored
   /// (test_legs_classifier_real.cpp), false persons per scan left / rear / right: 3 hits
   /// 0.037 / 0.028 / 0.039, 4 hits 0.030 / 0.028 / 0; general_tracking_moving_1.bag 39 matched
-  /// of 133 with 3 or 4, 23 with 5. With judged_chord_max_m: 0 / 0.028 / 0 with 3 or 4, scans
-  /// 437-872 of the moving bag 9 false persons with 3, 8 with 4.
+  /// of 133 with 3 or 4, 23 with 5. With judged_chord_max_m (0.02): 3 hits 0 / 0.028 / 0.039,
+  /// 4 hits 0 / 0.028 / 0 (as before the person grid); scans 437-872 of the moving bag 9 false
+  /// persons with 3, 8 with 4.
   JointTrackerConfig joint = [] {
     JointTrackerConfig j;
     j.standing_pair_hits = 4;
