@@ -159,9 +159,9 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       // Person tracks keep off the person grid (the same as the legs' unless unjudged blobs
       // count less there).
       const bool person_occupied =
-          person_grid_ ? sensor_occupied ||
-                             person_occupancy_.is_static(std::span(world).subspan(b, e - b))
-                       : occupied;
+          person_grid_
+              ? sensor_occupied || person_occupancy_.is_static(std::span(world).subspan(b, e - b))
+              : occupied;
       // Reported legs need more than the tracker's input: leg-shaped clutter passes the
       // classifier only just, and its leg tracks gather little evidence.
       // On occupied space (returns there scan after scan, from before or since the leg was
@@ -198,7 +198,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   // 4. People: the legs off occupied space tracked jointly in the fixed frame (the occupancy
   // grid of non-person returns also forbids person tracks to stay on occupied cells).
   const auto joint = persons_joint_.update(stamp_s, obs, out.pose,
-                                            person_grid_ ? &person_occupancy_ : &occupancy_);
+                                           person_grid_ ? &person_occupancy_ : &occupancy_);
   if (trace)
     for (std::size_t k = 0; k < obs.size(); ++k)
       out.segments[cand_trace[obs_cand[k]]].person = joint.person_of_leg[k];
@@ -244,7 +244,9 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     if (person_point[k]) continue;
     bg_sensor.push_back(pts[k]);
     if (pts[k].squaredNorm() <= body2) body_sensor.push_back(pts[k]);
-    (compact[k] == 0 ? bg_world : compact[k] == 1 ? compact_world : unjudged_world)
+    (compact[k] == 0   ? bg_world
+     : compact[k] == 1 ? compact_world
+                       : unjudged_world)
         .push_back(world[k]);
   }
   occupancy_.update(bg_world);

@@ -183,7 +183,7 @@ int approached_standing_person_reports(LegPipeline2DConfig config, int* false_re
     const auto out = pipeline.process(0.1 * k, scan_from(sensor, room, legs), sensor);
     for (const auto& p : out.people)
       ((sensor * p.position_m - Eigen::Vector2d(5.0, 0.0)).norm() < 0.4 ? reported
-                                                                         : *false_reports)++;
+                                                                        : *false_reports)++;
   }
   return reported;
 }

@@ -20,7 +20,9 @@
 ///      legs or by one leg (the other hidden), gains confidence from its legs' scores, and is
 ///      reported once confident and walking, or standing in the follow zone in front of the
 ///      sensor; the world background is its occupancy grid of non-person returns (no track
-///      lives there), and learns only the returns that no tracked person explains.
+///      lives there), and learns only the returns that no tracked person explains; in the grid
+///      person tracks keep off, leg-sized blobs the classifier cannot judge (too few returns,
+///      too far) do not count.
 /// Positions: sensor frame (x forward, y left) unless named `_world`; metres, seconds.
 
 #include <cstdint>
