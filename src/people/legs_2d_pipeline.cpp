@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace fieldlidar::people {
 
@@ -24,9 +26,17 @@ LegPipeline2D::LegPipeline2D(LegPipeline2DConfig config)
       sensor_background_(config_.background),
       occupancy_(config_.occupancy),
       sensor_occupancy_(config_.occupancy),
+      person_occupancy_(config_.occupancy),
       legs_(config_.leg_tracker),
       persons_(config_.person_tracker),
       persons_joint_(config_.joint) {
+  if (!(config_.unjudged_occupancy_weight >= 0 && config_.unjudged_occupancy_weight <= 1))
+    throw std::invalid_argument("LegPipeline2DConfig: unjudged_occupancy_weight " +
+                                std::to_string(config_.unjudged_occupancy_weight) +
+                                " is outside 0..1");
+  config_.unjudged_occupancy_weight =
+      std::min(config_.unjudged_occupancy_weight, config_.compact_occupancy_weight);
+  person_grid_ = config_.unjudged_occupancy_weight != config_.compact_occupancy_weight;
   // The occupied-space rule's margins left unset (NaN) are the classifier's own.
   if (const auto& c = config_.detector.classifier) {
     if (std::isnan(config_.occupied_leg_score_min))
@@ -58,12 +68,22 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   std::vector<std::pair<std::size_t, std::size_t>> cand_range;
   std::vector<double> score;
   // Leg-sized segments (compact blobs: a leg, a post, a person's two legs merged) teach the
-  // world occupancy grid with their own weight (compact_occupancy_weight).
+  // world occupancy grid with their own weight (compact_occupancy_weight), and the person grid
+  // with unjudged_occupancy_weight when the classifier cannot judge them (too few returns and
+  // not too thin for a leg, or too far). Per point: 0 not compact, 1 compact and judged, 2
+  // compact and unjudged.
   std::vector<char> compact(pts.size(), 0);
   const auto segments = split_by_jump(pts, dc.segment_jump_m);
+  const double judged2 = config_.judged_range_max_m * config_.judged_range_max_m;
   for (const auto& [b, e] : segments)
-    if ((pts[e - 1] - pts[b]).norm() <= config_.compact_chord_max_m)
-      std::fill(compact.begin() + std::ptrdiff_t(b), compact.begin() + std::ptrdiff_t(e), char(1));
+    if ((pts[e - 1] - pts[b]).norm() <= config_.compact_chord_max_m) {
+      const double chord = (pts[e - 1] - pts[b]).norm();
+      const bool judged = (e - b >= std::size_t(std::max(0, config_.judged_points_min)) ||
+                           chord <= config_.judged_chord_max_m) &&
+                          (0.5 * (pts[b] + pts[e - 1])).squaredNorm() <= judged2;
+      std::fill(compact.begin() + std::ptrdiff_t(b), compact.begin() + std::ptrdiff_t(e),
+                char(judged ? 1 : 2));
+    }
   const bool trace = config_.trace_segments;
   std::vector<std::size_t> cand_trace;  // per candidate: its entry in out.segments
   for (const auto& [b, e] : segments) {
@@ -132,9 +152,16 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     if (score[i] > 0 || prior > 0) {
       // A leg on occupied space is no person's leg: the occupancy grid forbids tracks there.
       const auto [b, e] = cand_range[i];
+      const bool sensor_occupied =
+          moving_frame && sensor_occupancy_.is_static(std::span(pts).subspan(b, e - b));
       const bool occupied =
-          occupancy_.is_static(std::span(world).subspan(b, e - b)) ||
-          (moving_frame && sensor_occupancy_.is_static(std::span(pts).subspan(b, e - b)));
+          sensor_occupied || occupancy_.is_static(std::span(world).subspan(b, e - b));
+      // Person tracks keep off the person grid (the same as the legs' unless unjudged blobs
+      // count less there).
+      const bool person_occupied =
+          person_grid_
+              ? sensor_occupied || person_occupancy_.is_static(std::span(world).subspan(b, e - b))
+              : occupied;
       // Reported legs need more than the tracker's input: leg-shaped clutter passes the
       // classifier only just, and its leg tracks gather little evidence.
       // On occupied space (returns there scan after scan, from before or since the leg was
@@ -150,8 +177,8 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       }
       if (trace)
         out.segments[cand_trace[i]].fate =
-            occupied ? SegmentFate::kOccupied : SegmentFate::kPersonInput;
-      if (occupied) continue;
+            person_occupied ? SegmentFate::kOccupied : SegmentFate::kPersonInput;
+      if (person_occupied) continue;
       obs.push_back({cand_world[i], score[i] > 0 ? score[i] : config_.carried_leg_score,
                      (pts[e - 1] - pts[b]).norm()});
       obs_cand.push_back(i);
@@ -170,7 +197,8 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
 
   // 4. People: the legs off occupied space tracked jointly in the fixed frame (the occupancy
   // grid of non-person returns also forbids person tracks to stay on occupied cells).
-  const auto joint = persons_joint_.update(stamp_s, obs, out.pose, &occupancy_);
+  const auto joint = persons_joint_.update(stamp_s, obs, out.pose,
+                                           person_grid_ ? &person_occupancy_ : &occupancy_);
   if (trace)
     for (std::size_t k = 0; k < obs.size(); ++k)
       out.segments[cand_trace[obs_cand[k]]].person = joint.person_of_leg[k];
@@ -198,18 +226,39 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     std::fill(person_point.begin() + std::ptrdiff_t(b), person_point.begin() + std::ptrdiff_t(e),
               char(1));
   }
+  // The returns about a reported person that no leg updated in this scan (its legs scored
+  // low, or merged with something) are not occupied space either: the person is still there.
+  if (config_.held_person_radius_m > 0) {
+    std::vector<Eigen::Vector2d> held;
+    for (const auto& t : persons_joint_.tracks())
+      if (t.reported && t.legs_now == 0) held.push_back(t.position());
+    const double r2 = config_.held_person_radius_m * config_.held_person_radius_m;
+    for (const auto& h : held)
+      for (std::size_t k = 0; k < pts.size(); ++k)
+        if ((world[k] - h).squaredNorm() <= r2) person_point[k] = 1;
+  }
   const double body2 = config_.body_range_max_m * config_.body_range_max_m;
-  std::vector<Eigen::Vector2d> bg_world, bg_sensor, body_sensor, compact_world;
+  std::vector<Eigen::Vector2d> bg_world, bg_sensor, body_sensor, compact_world, unjudged_world;
   bg_world.reserve(pts.size());
   for (std::size_t k = 0; k < pts.size(); ++k) {
     if (person_point[k]) continue;
     bg_sensor.push_back(pts[k]);
     if (pts[k].squaredNorm() <= body2) body_sensor.push_back(pts[k]);
-    (compact[k] ? compact_world : bg_world).push_back(world[k]);
+    (compact[k] == 0   ? bg_world
+     : compact[k] == 1 ? compact_world
+                       : unjudged_world)
+        .push_back(world[k]);
   }
   occupancy_.update(bg_world);
   occupancy_.add(compact_world, config_.compact_occupancy_weight);
+  occupancy_.add(unjudged_world, config_.compact_occupancy_weight);
+  if (person_grid_) {
+    person_occupancy_.update(bg_world);
+    person_occupancy_.add(compact_world, config_.compact_occupancy_weight);
+    person_occupancy_.add(unjudged_world, config_.unjudged_occupancy_weight);
+  }
   bg_world.insert(bg_world.end(), compact_world.begin(), compact_world.end());
+  bg_world.insert(bg_world.end(), unjudged_world.begin(), unjudged_world.end());
   world_background_.update(bg_world);
   if (moving_frame) sensor_occupancy_.update(bg_sensor);
   if (moving_frame) sensor_background_.update(body_sensor);

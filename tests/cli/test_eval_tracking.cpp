@@ -44,11 +44,13 @@ TEST(CliEvalTracking, BenchmarkBagScoresItsWedgeWithTheLegsPipeline) {
   const int fp = j["false_positives"], ids = j["id_switches"];
   EXPECT_EQ(matches + misses, truth);
   EXPECT_NEAR(double(j["mota"]), 1.0 - double(misses + fp + ids) / truth, 1e-12);
-  // Measured with the shipped settings: 2 of 133 matched, 1 false person, no id switch (the 37
-  // matched before came from a background grid that the robot had left). The targets
-  // (MOTA >= 0.40, recall >= 0.60) are not reached.
-  EXPECT_GE(matches, 2);
-  EXPECT_LE(fp, 2);
+  // Measured with the shipped settings: 43 of 133 matched, 15 false persons (7 on scans 0-436,
+  // 8 on 437-872), MOTA 0.211 over the whole bag, no id switch (2 matched and 1 false person
+  // before leg-sized blobs the classifier cannot judge were kept out of the person grid). The
+  // issue's targets (MOTA >= 0.40, recall >= 0.60) are not reached.
+  EXPECT_GE(matches, 43);
+  EXPECT_LE(fp, 16);
+  EXPECT_GE(double(j["mota"]), 0.2);
   EXPECT_EQ(ids, 0);
   // Leg-sized returns kept out of the occupancy grid: 39 of 133 matched, MOTA 0.165 over the
   // whole bag (8 false persons on scans 0-436, 9 on 437-872), MOTP 0.106 m, no id switch.
@@ -71,7 +73,7 @@ TEST(CliEvalTracking, BenchmarkBagScoresItsWedgeWithTheLegsPipeline) {
   EXPECT_EQ(first["matches"], j["matches"]);
   EXPECT_EQ(second["frames"], 436);
   EXPECT_EQ(second["truth_scored"], 0);
-  EXPECT_LE(int(second["false_positives"]), 2);
+  EXPECT_LE(int(second["false_positives"]), 10);
   const auto bad_range = test::run_cli("eval-tracking " + bag + " --scans 10:900");
   EXPECT_EQ(bad_range.exit_code, 1);
   EXPECT_NE(bad_range.output.find("--scans"), std::string::npos) << bad_range.output;
@@ -84,11 +86,12 @@ TEST(CliEvalTracking, BenchmarkBagScoresItsWedgeWithTheLegsPipeline) {
 }
 
 // --losses: where each of the 133 scored annotated persons is lost in the legs pipeline.
-// Measured with the shipped settings: no segment 0, not a candidate 30, background 1, not a
-// leg 17, occupied space 54, no person track 2, not reported 23, reported beyond the gate 4,
-// reported 2. Leg-sized returns kept out of the occupancy grid (--compact-occupancy 0):
-// occupied 2, not reported 42, reported 39. The occupancy grid, then the confirmation rules,
-// then the classifier: the order in which to fix them.
+// Measured with the shipped settings: no segment 0, not a candidate 27, background 1, not a
+// leg 13, occupied space 7, no person track 5, not reported 33, reported beyond the gate 4,
+// reported 43 (before unjudged blobs were kept out of the person grid: not a candidate 30, not
+// a leg 17, occupied 54, no person track 2, not reported 23, reported 2). Leg-sized returns
+// kept out of the occupancy grid (--compact-occupancy 0): occupied 2, not reported 42,
+// reported 39. Now the confirmation rules, then the classifier.
 TEST(CliEvalTracking, LossesTellWhereTheAnnotatedPersonsAreLost) {
   FIELDLIDAR_REQUIRE_DATA(kBag);
   const auto dir = test::temp_dir("eval_tracking_losses");
@@ -101,8 +104,9 @@ TEST(CliEvalTracking, LossesTellWhereTheAnnotatedPersonsAreLost) {
   for (const auto& [name, n] : l.items()) sum += int(n);
   EXPECT_EQ(sum, 133);
   EXPECT_EQ(int(l["no_segment"]), 0);  // every annotated person is seen by the laser
-  EXPECT_GE(int(l["occupied"]), 45);
-  EXPECT_LE(int(l["not_candidate"]) + int(l["not_leg"]), 50);
+  EXPECT_LE(int(l["occupied"]), 10);
+  EXPECT_GE(int(l["reported"]), 43);
+  EXPECT_LE(int(l["not_candidate"]) + int(l["not_leg"]), 45);
   EXPECT_GE(int(l["reported"]), int(j["matches"]));
   std::ifstream in(csv);
   std::string line;

@@ -82,27 +82,34 @@ void print(const TrackingScores& s) {
   print("whole bag", s.whole);
 }
 
-// The shipped settings. Measured: 2 of 133 matched, 1 false person, MOTA 0.008 (scans 0-436);
-// no false person on scans 437-872. The 37 matches (MOTA 0.241) measured before came from a
-// background grid fixed around the start, which the robot leaves at scan ~230: from there on
-// nothing was occupied space. In a grid that follows the robot the occupancy grid takes a
-// standing person within 2-3 scans, as it takes furniture (see compact_occupancy_weight).
+// The shipped settings. Measured: scans 0-436 43 of 133 matched, 7 false persons (0.016 per
+// scan), 0 id switches, MOTA 0.271, recall 0.323, MOTP 0.111 m; scans 437-872 8 false persons
+// (0.018 per scan). Before leg-sized blobs the classifier cannot judge (fewer than 6 returns and
+// wider than 2 cm, or beyond 5 m) were kept out of the person grid (unjudged_occupancy_weight)
+// and a reported person's own returns out of the grids while no leg updated it
+// (held_person_radius_m): 2 matched, 1 false person, MOTA 0.008; the standing people the robot
+// drives towards had filled the grid as 1-5-point blobs at 5-8 m before their legs scored as
+// legs. With those and a tentative track's 0.35 s to live: 39 matched, MOTA 0.248.
 TEST(PeopleTrackingReal, MovingRobotBenchmarkBag) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d_tracking/general_tracking_moving_1.bag");
   const auto s = score_tracking_bag(shipped());
   print(s);
   EXPECT_EQ(s.whole.truth, 133u);
   EXPECT_EQ(s.tuned.truth, 133u);
-  EXPECT_GE(s.whole.matches, 2u);
-  EXPECT_LE(s.whole.false_positives, 2u);
+  EXPECT_GE(s.tuned.matches, 43u);
+  EXPECT_GE(s.tuned.mota(), 0.265);
+  EXPECT_LE(s.tuned.false_positives, 8u);
+  EXPECT_LT(s.tuned.motp_m(), 0.12);
   EXPECT_EQ(s.whole.id_switches, 0u);
-  EXPECT_EQ(s.held_out.false_positives, 0u);
+  EXPECT_LE(s.held_out.false_positives, 10u);
 }
 
 // Leg-sized returns kept out of the occupancy grid (compact_occupancy_weight 0): standing
 // people are tracked while the robot drives past them, and so is furniture (negative_2.bag: 0.17
 // / 0.22 / 0.12 false persons per scan). Measured: scans 0-436 39 of 133 matched, 8 false
-// persons, 0 id switches, MOTA 0.233, recall 0.293, MOTP 0.106 m; scans 437-872 9 false persons.
+// persons, 0 id switches, MOTA 0.233, recall 0.293, MOTP 0.106 m; scans 437-872 9 false persons
+// (43 matched, MOTA 0.256, 9 and 8 false persons with the 2D pipeline's standing_pair_hits 4
+// and tentative_max_miss_s 0.45).
 TEST(PeopleTrackingReal, MovingRobotBenchmarkBagStandingPeopleKept) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d_tracking/general_tracking_moving_1.bag");
   auto config = shipped();
