@@ -30,9 +30,10 @@ double solve(std::span<const Eigen::Vector3d> q, const std::vector<char>& keep, 
       const Eigen::Vector2d e = w / len;
       Eigen::Matrix<double, 5, 1> J;
       J << -e.x(), -e.y(), -e.x() * q[i].z(), -e.y() * q[i].z(), -1.0;
-      H += J * J.transpose();
+      H.selfadjointView<Eigen::Lower>().rankUpdate(J);  // H is symmetric: its lower half
       g += J * (len - m.r);
     }
+    H.triangularView<Eigen::StrictlyUpper>() = H.transpose().eval();
     H.diagonal().array() += 1e-9;
     if (!fit_slope) {
       H.block<2, 5>(2, 0).setZero();

@@ -50,9 +50,10 @@ Circle fit_circle(std::span<const Eigen::Vector2d> points, double min_radius_m, 
       const double len = std::max(d.norm(), 1e-9);
       const double res = len - r;
       const Eigen::Vector3d J(-d.x() / len, -d.y() / len, -1.0);
-      H += J * J.transpose();
+      H.selfadjointView<Eigen::Lower>().rankUpdate(J);  // H is symmetric: its lower half
       g += J * res;
     }
+    H.triangularView<Eigen::StrictlyUpper>() = H.transpose().eval();
     H.diagonal().array() += 1e-9;
     const Eigen::Vector3d step = H.ldlt().solve(-g);
     if (!step.allFinite()) break;
