@@ -2,6 +2,7 @@
 // extract the trees, associate them with the mapped trunks near the prediction, solve the pose
 // from the axes and the ground plane, and merge the observations into the map.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -25,14 +26,14 @@ PointCloud deskewed(const PointCloud& cloud, const Pose& motion, double period_s
     Eigen::Matrix3d R;
     Eigen::Vector3d t;
   };
-  std::unordered_map<float, Fraction> by_time;
+  std::unordered_map<std::uint32_t, Fraction> by_time;  // by the time's bits
   float last_time = std::numeric_limits<float>::quiet_NaN();
   const Fraction* f = nullptr;
   for (auto& p : out.points) {
     if (!p.is_valid()) continue;
     if (!(p.time == last_time)) {
       last_time = p.time;
-      auto [it, added] = by_time.try_emplace(p.time);
+      auto [it, added] = by_time.try_emplace(std::bit_cast<std::uint32_t>(p.time));
       if (added) {
         const double s = double(p.time) / period_s;
         it->second.R = Eigen::AngleAxisd(aa.angle() * s, aa.axis()).toRotationMatrix();
