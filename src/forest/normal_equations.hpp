@@ -1,7 +1,7 @@
 #pragma once
-// Gauss-Newton normal matrices built over many residuals: H = sum J J^T is symmetric, so each
-// residual adds to its lower half only (n (n + 1) / 2 products, not n^2), and the upper half is
-// copied once before the solve.
+// Sums of outer products over many residuals or points (Gauss-Newton normal matrices H = sum J
+// J^T, scatter matrices): symmetric, so each term adds to the lower half only (n (n + 1) / 2
+// products, not n^2), and the upper half is copied once before the solve.
 
 #include <Eigen/Core>
 
