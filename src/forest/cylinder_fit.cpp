@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include "fieldlidar/forest/trunks.hpp"
+#include "normal_equations.hpp"
 
 namespace fieldlidar::forest {
 namespace {
@@ -30,9 +31,10 @@ double solve(std::span<const Eigen::Vector3d> q, const std::vector<char>& keep, 
       const Eigen::Vector2d e = w / len;
       Eigen::Matrix<double, 5, 1> J;
       J << -e.x(), -e.y(), -e.x() * q[i].z(), -e.y() * q[i].z(), -1.0;
-      H += J * J.transpose();
+      add_outer_lower(H, J);
       g += J * (len - m.r);
     }
+    mirror_lower(H);
     H.diagonal().array() += 1e-9;
     if (!fit_slope) {
       H.block<2, 5>(2, 0).setZero();

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 #include "fieldlidar/forest/trunks.hpp"
+#include "normal_equations.hpp"
 
 namespace fieldlidar::forest {
 
@@ -50,9 +51,10 @@ Circle fit_circle(std::span<const Eigen::Vector2d> points, double min_radius_m, 
       const double len = std::max(d.norm(), 1e-9);
       const double res = len - r;
       const Eigen::Vector3d J(-d.x() / len, -d.y() / len, -1.0);
-      H += J * J.transpose();
+      add_outer_lower(H, J);
       g += J * res;
     }
+    mirror_lower(H);
     H.diagonal().array() += 1e-9;
     const Eigen::Vector3d step = H.ldlt().solve(-g);
     if (!step.allFinite()) break;

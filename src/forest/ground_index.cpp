@@ -13,11 +13,25 @@ std::int64_t GroundIndex::cell(double v) {
   return std::int64_t(std::floor(v));
 }
 
+// The points of every cell in one array, cell after cell, each cell's in cloud order: two
+// passes (count, then place) instead of a vector per cell.
 GroundIndex::GroundIndex(const PointCloud& cloud, std::span<const std::uint8_t> is_ground) {
+  const auto ground = [&](std::size_t i) { return is_ground[i] && cloud.points[i].is_valid(); };
+  const auto key_of = [](const Point& p) { return key(cell(p.x), cell(p.y)); };
+  std::size_t n = 0;
   for (std::size_t i = 0; i < is_ground.size(); ++i)
-    if (is_ground[i] && cloud.points[i].is_valid()) {
-      const auto& p = cloud.points[i];
-      cells_[key(cell(p.x), cell(p.y))].push_back(p.xyz().cast<double>());
+    if (ground(i)) ++cells_[key_of(cloud.points[i])].count, ++n;
+  std::uint32_t begin = 0;
+  for (auto& [k, range] : cells_) {
+    range.begin = begin;
+    begin += range.count;
+    range.count = 0;
+  }
+  points_.resize(n);
+  for (std::size_t i = 0; i < is_ground.size(); ++i)
+    if (ground(i)) {
+      auto& range = cells_[key_of(cloud.points[i])];
+      points_[range.begin + range.count++] = cloud.points[i].xyz().cast<double>();
     }
 }
 
@@ -32,8 +46,9 @@ std::vector<Eigen::Vector3d> GroundIndex::within(const Eigen::Vector2d& xy, doub
     for (int dy = -r; dy <= r; ++dy) {
       auto it = cells_.find(key(cell(xy.x()) + dx, cell(xy.y()) + dy));
       if (it == cells_.end()) continue;
-      for (const auto& p : it->second)
-        if ((p.head<2>() - xy).norm() <= radius) out.push_back(p);
+      const auto& range = it->second;
+      for (std::uint32_t k = range.begin; k < range.begin + range.count; ++k)
+        if ((points_[k].head<2>() - xy).norm() <= radius) out.push_back(points_[k]);
     }
   return out;
 }

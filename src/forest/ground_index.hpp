@@ -28,7 +28,11 @@ class GroundIndex {
   std::vector<Eigen::Vector3d> within(const Eigen::Vector2d& xy, double radius) const;
   static std::int64_t cell(double v);
   static std::int64_t key(std::int64_t x, std::int64_t y) { return (x << 32) ^ (y & 0xffffffff); }
-  std::unordered_map<std::int64_t, std::vector<Eigen::Vector3d>> cells_;
+  struct Range {
+    std::uint32_t begin = 0, count = 0;  ///< in points_
+  };
+  std::unordered_map<std::int64_t, Range> cells_;
+  std::vector<Eigen::Vector3d> points_;
 };
 
 }  // namespace fieldlidar::forest

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include "fieldlidar/forest/tracking.hpp"
+#include "normal_equations.hpp"
 
 namespace fieldlidar::forest {
 
@@ -29,7 +30,8 @@ GroundPlane fit_ground_plane(const PointCloud& cloud, std::span<const std::uint8
     mean /= double(n);
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
     for (std::size_t i = 0; i < pts.size(); ++i)
-      if (keep[i]) cov += (pts[i] - mean) * (pts[i] - mean).transpose();
+      if (keep[i]) add_outer_lower<3>(cov, pts[i] - mean);
+    mirror_lower(cov);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
     Eigen::Vector3d nrm = es.eigenvectors().col(0);
     if (nrm.z() < 0) nrm = -nrm;

@@ -2,7 +2,10 @@
 // extract the trees, associate them with the mapped trunks near the prediction, solve the pose
 // from the axes and the ground plane, and merge the observations into the map.
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <limits>
+#include <unordered_map>
 
 #include <Eigen/Geometry>
 
@@ -11,22 +14,34 @@
 namespace fieldlidar::forest {
 namespace {
 
-// The fraction s of a small motion (rotation angle scaled, translation scaled).
-Pose fraction_of(const Pose& motion, double s) {
-  Pose T = Pose::Identity();
-  const Eigen::AngleAxisd aa(motion.linear());
-  T.linear() = Eigen::AngleAxisd(aa.angle() * s, aa.axis()).toRotationMatrix();
-  T.translation() = motion.translation() * s;
-  return T;
-}
-
-// Every point moved into the frame of the sweep start, under a constant motion over the sweep.
+// Every point moved into the frame of the sweep start, under a constant motion over the sweep:
+// a point fired at time t moves by the fraction t / period of the motion (rotation angle and
+// translation scaled). The motion's axis and angle are taken once; the fraction's rotation once
+// per firing time (the points of one firing share it, and a ring-major cloud repeats the times of
+// the first ring).
 PointCloud deskewed(const PointCloud& cloud, const Pose& motion, double period_s) {
   PointCloud out = cloud;
+  const Eigen::AngleAxisd aa(motion.linear());
+  struct Fraction {
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+  };
+  std::unordered_map<std::uint32_t, Fraction> by_time;  // by the time's bits
+  float last_time = std::numeric_limits<float>::quiet_NaN();
+  const Fraction* f = nullptr;
   for (auto& p : out.points) {
     if (!p.is_valid()) continue;
-    const Eigen::Vector3d q =
-        fraction_of(motion, double(p.time) / period_s) * p.xyz().cast<double>();
+    if (!(p.time == last_time)) {
+      last_time = p.time;
+      auto [it, added] = by_time.try_emplace(std::bit_cast<std::uint32_t>(p.time));
+      if (added) {
+        const double s = double(p.time) / period_s;
+        it->second.R = Eigen::AngleAxisd(aa.angle() * s, aa.axis()).toRotationMatrix();
+        it->second.t = motion.translation() * s;
+      }
+      f = &it->second;
+    }
+    const Eigen::Vector3d q = f->R * p.xyz().cast<double>() + f->t;
     p.x = float(q.x());
     p.y = float(q.y());
     p.z = float(q.z());
