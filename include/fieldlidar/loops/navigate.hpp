@@ -54,6 +54,10 @@ struct NavigateConfig {
   /// A cell with this many returns but no traversability is impassable (seen, no ground: a
   /// slope too steep for the ground segmentation, a wall); see area_grid.
   int seen_no_ground_points = 30;
+  /// A likely negative obstacle of the fused map (a trench shadow not seen yet:
+  /// terrain::NegativeObstacleConfig, fusion.negative_obstacles) is planned as impassable, not
+  /// as unknown.
+  bool negative_obstacles_impassable = true;
   /// Cells never seen within this distance (m) of the robot (beyond its blind disk) are shadows,
   /// planned at shadow_tau rather than as unknown (see cost_shadows); 0: off. Off by default: at
   /// 12 m on the seed-0 pairs it shortened the drive round the ditch (ratio 1.357 -> 1.233) but
