@@ -26,11 +26,11 @@ struct Sunk {
 
 }  // namespace
 
-std::vector<TrenchShadow> find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
-                                              std::span<const std::uint8_t> is_ground,
-                                              const Eigen::Vector3d& sensor_m, double max_slope_deg,
-                                              const NegativeObstacleConfig& config) {
-  std::vector<TrenchShadow> out;
+TrenchScan find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
+                               std::span<const std::uint8_t> is_ground,
+                               const Eigen::Vector3d& sensor_m, double max_slope_deg,
+                               const NegativeObstacleConfig& config) {
+  TrenchScan out;
   if (!config.enabled || points_m.size() != is_ground.size()) return out;
   const double column_rad = config.column_width_deg * std::numbers::pi / 180.0;
   if (!(column_rad > 0)) return out;
@@ -127,7 +127,8 @@ std::vector<TrenchShadow> find_trench_shadows(std::span<const Eigen::Vector3d> p
           for (const Sunk& s : sunk) {
             const Eigen::Vector3d& p = points_m[s.index];
             const Eigen::Vector2d dir = (p.head<2>() - sensor_m.head<2>()) / std::max(1e-6f, s.r);
-            out.push_back({sensor_m.head<2>() + double(s.r_cross) * dir, p.head<2>(), s.depth});
+            out.shadows.push_back(
+                {sensor_m.head<2>() + double(s.r_cross) * dir, p.head<2>(), s.depth});
           }
         sunk.clear();
         deepest = 0;
@@ -135,6 +136,8 @@ std::vector<TrenchShadow> find_trench_shadows(std::span<const Eigen::Vector3d> p
         // Ground rising above the line as much (a low rock kept as ground, the foot of a
         // slope): a new line starts there.
         line = based = false;
+      } else {
+        out.level_ground.push_back(q->index);
       }
       take_ground(*q);
     }

@@ -54,9 +54,14 @@ Grid2D copy_cells(const CellStore& store, const Eigen::Vector2i& lo, int w, int 
   return map;
 }
 
-/// The cells under each trench shadow (every quarter cell along it) take its depth.
-void mark_trench_shadows(CellStore& store, const std::vector<TrenchShadow>& shadows, double cm) {
-  for (const TrenchShadow& s : shadows) {
+/// The cells of level ground lose their trench mark, then the cells under each trench shadow
+/// (every quarter cell along it) take its depth.
+void mark_trench_shadows(CellStore& store, const TrenchScan& scan,
+                         std::span<const Eigen::Vector3d> pts, double cm) {
+  for (std::uint32_t i : scan.level_ground)
+    if (FusedCell* cell = store.find(cell_index(pts[i].x(), cm), cell_index(pts[i].y(), cm)))
+      cell->trench_depth_m = 0.0f;
+  for (const TrenchShadow& s : scan.shadows) {
     const Eigen::Vector2d d = s.to_m - s.from_m;
     const int steps = 1 + int(std::ceil(d.norm() / (0.25 * cm)));
     for (int k = 0; k <= steps; ++k) {
@@ -210,15 +215,16 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
     }
   }
   if (f.negative_obstacles.enabled) {
-    // Ground returns in a cell this scan holds obstacle returns in (a bush's top kept as
-    // ground) are no ground to judge a trench by.
+    // Ground returns in a cell holding an obstacle return of this scan or obstacle evidence
+    // (a rock's or bush's top kept as ground) are no ground to judge a trench by.
     std::vector<std::uint8_t> clear_ground(ground_flags);
     for (std::size_t i = 0; i < pts.size(); ++i)
-      if (clear_ground[i] && int(local_of(i).raised) >= c.min_obstacle_points) clear_ground[i] = 0;
+      if (clear_ground[i] && (local_of(i).raised > 0 || local_of(i).cell->log_odds > 0.0f))
+        clear_ground[i] = 0;
     mark_trench_shadows(impl_->store,
                         find_trench_shadows(pts, clear_ground, sensor_m, c.robot.max_slope_deg,
                                             f.negative_obstacles),
-                        cm);
+                        pts, cm);
   }
   if (f.see_through_stride > 0)
     detail::mark_seen_through(local, lo, w, h, pts, sensor_m, f.see_through_stride, f);

@@ -59,11 +59,19 @@ struct TrenchShadow {
   float depth_m = 0.0f;
 };
 
+/// What one scan shows: its trench shadows, and the returns judged level ground (on the line of
+/// the ground before them, within min_depth_m, no obstacle in the cell): ground seen there, so no
+/// trench, whatever an earlier shadow suggested.
+struct TrenchScan {
+  std::vector<TrenchShadow> shadows;
+  std::vector<std::uint32_t> level_ground;  ///< indices into the scan's returns
+};
+
 /// The trench shadows of one scan: returns in the map frame (z up) with their ground flags, seen
 /// from sensor_m; max_slope_deg bounds the near ground's slope. Non-finite returns are skipped.
-std::vector<TrenchShadow> find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
-                                              std::span<const std::uint8_t> is_ground,
-                                              const Eigen::Vector3d& sensor_m, double max_slope_deg,
-                                              const NegativeObstacleConfig& config);
+TrenchScan find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
+                               std::span<const std::uint8_t> is_ground,
+                               const Eigen::Vector3d& sensor_m, double max_slope_deg,
+                               const NegativeObstacleConfig& config);
 
 }  // namespace fieldlidar::terrain

@@ -125,9 +125,10 @@ struct FusionConfig {
   /// by this many standard deviations of its returns about the plane.
   double step_sigmas = 1.0;
   /// Trench shadows (negative_obstacle.hpp): the cells under a sunk beam are marked, and shown
-  /// in layer kNegativeObstacle while their traversability is unknown (ground seen there since,
-  /// passable or not, overrides the mark). The other layers do not use it.
-  NegativeObstacleConfig negative_obstacles;
+  /// in layer kNegativeObstacle while their traversability is unknown (a traversability since,
+  /// passable or not, overrides the mark); a later scan's level ground in a cell clears it. The
+  /// other layers do not use it.
+  NegativeObstacleConfig negative_obstacles = {};
 };
 
 /// What one scan did to the map.
