@@ -59,6 +59,7 @@ TrenchScan find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
   }
   const float max_rise = float(std::tan(max_slope_deg * std::numbers::pi / 180.0));
   const float min_depth = float(config.min_depth_m);
+  const float curvature_half = 0.5f * float(config.ground_curvature_per_m);
   std::vector<Sunk> sunk;
   for (int c = 0; c < columns; ++c) {
     const auto first = sorted.begin() + start[c], last = sorted.begin() + start[c + 1];
@@ -95,8 +96,9 @@ TrenchScan find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
         continue;
       }
       const float depth = z_a + slope * (q->r - r_a) - q->z;
-      if (depth >= min_depth) {
-        if (q->r - r_a > reach) continue;  // sunk by the ground's curvature as much
+      const float ahead = q->r - r_a;
+      if (depth >= min_depth + curvature_half * ahead * ahead) {
+        if (ahead > reach) continue;  // sunk by the ground's curvature as much
         // Sunk: its beam (descending t per metre) fell below the line at r_cross.
         const float t = -q->z / q->r;
         if (t + slope <= 1e-3f) continue;

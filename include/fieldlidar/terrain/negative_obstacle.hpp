@@ -33,6 +33,10 @@ struct NegativeObstacleConfig {
   /// range. Above the sensor's range noise times the beam's slope and the rolling ground's
   /// curvature over a few metres.
   double min_depth_m = 0.08;
+  /// ... plus what ground curving this much (1/m) sinks below the line over the distance d
+  /// from its last ground return (curvature / 2 * d^2): a convex swell is no trench. 0.008: the
+  /// simulated scene's rolling ground, 0.6 m * (0.07^2 + 0.09^2) per m at most.
+  double ground_curvature_per_m = 0.004;
   /// The ground beyond must rise back: its depth below the near line at most this share of the
   /// deepest sunk return's (a descent only sinks deeper).
   double max_far_depth_share = 0.5;
