@@ -26,7 +26,8 @@ Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityCon
 
 Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
                  int seen_no_ground_points, const Eigen::Vector2d& sensor_xy_m,
-                 double blind_radius_m, int blind_points, bool negative_impassable) {
+                 double blind_radius_m, int blind_points, bool negative_impassable,
+                 const Eigen::Vector2d& goal_xy_m, double goal_clear_m) {
   Grid2D out(area);
   auto tau = out.add_layer(L::kTraversability, NAN);
   auto imp = out.add_layer(L::kImpassable, NAN);
@@ -49,7 +50,9 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
       imp[i] = gimp[j];
       pts[i] = gpts[j];
       ground[i] = std::isfinite(gelev[j]);
-      if (negative_impassable && gneg[j] > 0.5f) imp[i] = 1.f;
+      if (negative_impassable && gneg[j] > 0.5f &&
+          (area.cell_center(ix, iy) - goal_xy_m).norm() > goal_clear_m)
+        imp[i] = 1.f;
       if (!ground[i] && !std::isfinite(tau[i]) && pts[i] >= float(blind_points) &&
           (area.cell_center(ix, iy) - sensor_xy_m).norm() < blind_radius_m)
         imp[i] = 1.f;

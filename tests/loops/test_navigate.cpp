@@ -159,9 +159,9 @@ TEST(Navigate, DetourHoldWaitsForABlockSeenFromAfar) {
   const auto held = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
   cfg.detour_hold_ratio = 0.0;
   const auto swapped = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
-  std::printf("with the hold: %s, ratio %.3f; without: %s, ratio %.3f\n",
+  std::printf("with the hold: %s, ratio %.3f; without: %s, ratio %.3f (%s)\n",
               loops::to_string(held.outcome), held.length_ratio, loops::to_string(swapped.outcome),
-              swapped.length_ratio);
+              swapped.length_ratio, swapped.reason.c_str());
   EXPECT_EQ(held.outcome, loops::NavigateOutcome::kArrived) << held.reason;
   EXPECT_EQ(held.frames_on_impassable, 0u);
   EXPECT_LE(held.length_ratio, 1.10);
