@@ -53,9 +53,10 @@ TrenchScan find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
   for (std::size_t i = 0; i < points_m.size(); ++i) {
     if (column_of[i] < 0) continue;
     const Eigen::Vector3d& p = points_m[i];
-    sorted[fill[std::size_t(column_of[i])]++] = {
-        float(std::hypot(p.x() - sensor_m.x(), p.y() - sensor_m.y())), float(p.z() - sensor_m.z()),
-        std::uint32_t(i), is_ground[i] != 0};
+    const double dx = p.x() - sensor_m.x(), dy = p.y() - sensor_m.y();
+    sorted[fill[std::size_t(column_of[i])]++] = {float(std::sqrt(dx * dx + dy * dy)),
+                                                 float(p.z() - sensor_m.z()), std::uint32_t(i),
+                                                 is_ground[i] != 0};
   }
   const float max_rise = float(std::tan(max_slope_deg * std::numbers::pi / 180.0));
   const float min_depth = float(config.min_depth_m);
