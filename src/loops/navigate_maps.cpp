@@ -26,7 +26,8 @@ Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityCon
 
 Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
                  int seen_no_ground_points, const Eigen::Vector2d& sensor_xy_m,
-                 double blind_radius_m, int blind_points) {
+                 double blind_radius_m, int blind_points, bool negative_impassable,
+                 const Eigen::Vector2d& goal_xy_m, double goal_clear_m) {
   Grid2D out(area);
   auto tau = out.add_layer(L::kTraversability, NAN);
   auto imp = out.add_layer(L::kImpassable, NAN);
@@ -37,6 +38,7 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
   const auto gimp = global.layer(L::kImpassable);
   const auto gpts = global.layer(L::kPoints);
   const auto gelev = global.layer(L::kElevation);
+  const auto gneg = global.layer(L::kNegativeObstacle);
   const GridGeometry& g = global.geometry();
   std::vector<std::uint8_t> ground(area.cell_count(), 0);
   for (int iy = 0; iy < area.height; ++iy)
@@ -48,6 +50,9 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
       imp[i] = gimp[j];
       pts[i] = gpts[j];
       ground[i] = std::isfinite(gelev[j]);
+      if (negative_impassable && gneg[j] > 0.5f &&
+          (area.cell_center(ix, iy) - goal_xy_m).norm() > goal_clear_m)
+        imp[i] = 1.f;
       if (!ground[i] && !std::isfinite(tau[i]) && pts[i] >= float(blind_points) &&
           (area.cell_center(ix, iy) - sensor_xy_m).norm() < blind_radius_m)
         imp[i] = 1.f;

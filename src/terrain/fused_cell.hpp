@@ -78,6 +78,8 @@ struct FusedCell {
   float obstacle_top_m = 0.0f;  ///< highest obstacle return above the ground while it holds
   std::uint32_t returns = 0;    ///< every return that fell in the cell
   bool bump = false;            ///< last derived as a bump obstacle (a low rock kept as ground)
+  /// Deepest sunk beam seen over the cell in a trench shadow (m below the near ground; 0: none).
+  float trench_depth_m = 0.0f;
   /// The two highest ground returns (z - z_ref): the second is the cell's ground top, one stray
   /// return being no rock.
   std::array<float, 2> ground_top = {-std::numeric_limits<float>::infinity(),

@@ -3,6 +3,7 @@
 /// the touched cells and their voxel windows recomputed.
 #include "fieldlidar/terrain/terrain_map.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -40,6 +41,7 @@ Grid2D copy_cells(const CellStore& store, const Eigen::Vector2i& lo, int w, int 
   for (int i = 0; i < detail::kLayerCount; ++i)
     layers[i] = map.add_layer(detail::kLayerNames[i], std::numeric_limits<float>::quiet_NaN());
   auto points = map.add_layer(layer::kPoints, 0.0f);
+  auto negative = map.add_layer(layer::kNegativeObstacle, 0.0f);
   for (int iy = 0; iy < h; ++iy)
     for (int ix = 0; ix < w; ++ix) {
       const FusedCell* cell = store.find(lo.x() + ix, lo.y() + iy);
@@ -47,8 +49,27 @@ Grid2D copy_cells(const CellStore& store, const Eigen::Vector2i& lo, int w, int 
       const std::size_t k = g.linear_index(ix, iy);
       for (int i = 0; i < detail::kLayerCount; ++i) layers[i][k] = cell->layers[i];
       points[k] = float(cell->returns);
+      negative[k] = cell->trench_depth_m > 0.0f && std::isnan(cell->layers[detail::kTau]);
     }
   return map;
+}
+
+/// The cells of level ground lose their trench mark, then the cells under each trench shadow
+/// (every quarter cell along it) take its depth.
+void mark_trench_shadows(CellStore& store, const TrenchScan& scan,
+                         std::span<const Eigen::Vector3d> pts, double cm) {
+  for (std::uint32_t i : scan.level_ground)
+    if (FusedCell* cell = store.find(cell_index(pts[i].x(), cm), cell_index(pts[i].y(), cm)))
+      cell->trench_depth_m = 0.0f;
+  for (const TrenchShadow& s : scan.shadows) {
+    const Eigen::Vector2d d = s.to_m - s.from_m;
+    const int steps = 1 + int(std::ceil(d.norm() / (0.25 * cm)));
+    for (int k = 0; k <= steps; ++k) {
+      const Eigen::Vector2d p = s.from_m + d * (double(k) / steps);
+      FusedCell& cell = store.get(cell_index(p.x(), cm), cell_index(p.y(), cm));
+      cell.trench_depth_m = std::max(cell.trench_depth_m, s.depth_m);
+    }
+  }
 }
 
 }  // namespace
@@ -192,6 +213,18 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
     } else if (f.pit_evidence && above < -c.robot.max_step_m) {
       ++s.raised;
     }
+  }
+  if (f.negative_obstacles.enabled) {
+    // Ground returns in a cell holding an obstacle return of this scan or obstacle evidence
+    // (a rock's or bush's top kept as ground) are no ground to judge a trench by.
+    std::vector<std::uint8_t> clear_ground(ground_flags);
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (clear_ground[i] && (local_of(i).raised > 0 || local_of(i).cell->log_odds > 0.0f))
+        clear_ground[i] = 0;
+    mark_trench_shadows(impl_->store,
+                        find_trench_shadows(pts, clear_ground, sensor_m, c.robot.max_slope_deg,
+                                            f.negative_obstacles),
+                        pts, cm);
   }
   if (f.see_through_stride > 0)
     detail::mark_seen_through(local, lo, w, h, pts, sensor_m, f.see_through_stride, f);

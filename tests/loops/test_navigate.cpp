@@ -164,7 +164,8 @@ TEST(Navigate, StartLookTurnsInPlaceBeforeTheFirstPlan) {
 // blocked for a while at 5 m; the detour hold keeps to the plan and passes once it clears (ratio
 // 1.029 measured); without it the robot turns back towards the 60 m detour round the hill's
 // west and north before the passage reopens (1.342). Without the approach's sweeps (approach_m
-// 0): with them (the default 2 m) the block is not seen from afar and both drives measure 1.059.
+// 0, the default, set here all the same): with a 2 m approach the block is not seen from afar and
+// both drives measure 1.059.
 TEST(Navigate, DetourHoldWaitsForABlockSeenFromAfar) {
   const sim::Scene scene = sim::make_terrain_scene({}, 0);
   const planning::Pose2 start{31, 32, 0}, goal{57, 32, 1.5708};
@@ -173,9 +174,9 @@ TEST(Navigate, DetourHoldWaitsForABlockSeenFromAfar) {
   const auto held = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
   cfg.detour_hold_ratio = 0.0;
   const auto swapped = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
-  std::printf("with the hold: %s, ratio %.3f; without: %s, ratio %.3f\n",
+  std::printf("with the hold: %s, ratio %.3f; without: %s, ratio %.3f (%s)\n",
               loops::to_string(held.outcome), held.length_ratio, loops::to_string(swapped.outcome),
-              swapped.length_ratio);
+              swapped.length_ratio, swapped.reason.c_str());
   EXPECT_EQ(held.outcome, loops::NavigateOutcome::kArrived) << held.reason;
   EXPECT_EQ(held.frames_on_impassable, 0u);
   EXPECT_LE(held.length_ratio, 1.10);

@@ -30,9 +30,16 @@ Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityCon
 /// mounting height / tan(-lowest elevation)), no return can be ground: a cell there with
 /// `blind_points` returns and no ground plane is impassable too (the top of a rock beside the
 /// robot at the start, which the map cannot call an obstacle without the ground under it).
+///
+/// With `negative_impassable`, a likely negative obstacle (layer kNegativeObstacle: a trench
+/// shadow not seen yet) is impassable too, but within `goal_clear_m` of `goal_xy_m`: a guess from
+/// a shadow never makes a goal unreachable; the robot goes to look, and a real ditch there is
+/// blocked by the map once seen.
 Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
                  int seen_no_ground_points = 0, const Eigen::Vector2d& sensor_xy_m = {},
-                 double blind_radius_m = 0.0, int blind_points = 3);
+                 double blind_radius_m = 0.0, int blind_points = 3,
+                 bool negative_impassable = false, const Eigen::Vector2d& goal_xy_m = {},
+                 double goal_clear_m = 0.0);
 
 /// Cells never seen (no return) between inner_m and outer_m from the sensor are shadows: ground
 /// the sensor would have seen were it not hidden (behind a rock, inside a ditch or pit). They get

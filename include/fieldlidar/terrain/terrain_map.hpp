@@ -13,6 +13,7 @@
 #include "fieldlidar/core/point_cloud.hpp"
 #include "fieldlidar/core/pose.hpp"
 #include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/terrain/negative_obstacle.hpp"
 #include "fieldlidar/terrain/traversability.hpp"
 
 namespace fieldlidar::terrain {
@@ -123,6 +124,11 @@ struct FusionConfig {
   /// The step over the voxel window: range of the cells' mean offsets from the plane, each widened
   /// by this many standard deviations of its returns about the plane.
   double step_sigmas = 1.0;
+  /// Trench shadows (negative_obstacle.hpp): the cells under a sunk beam are marked, and shown
+  /// in layer kNegativeObstacle while their traversability is unknown (a traversability since,
+  /// passable or not, overrides the mark); a later scan's level ground in a cell clears it. The
+  /// other layers do not use it.
+  NegativeObstacleConfig negative_obstacles = {};
 };
 
 /// What one scan did to the map.

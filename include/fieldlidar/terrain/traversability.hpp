@@ -83,6 +83,9 @@ inline constexpr const char* kImpassable = "impassable";
 inline constexpr const char* kTraversability = "traversability";  ///< tau in [0, 1]
 inline constexpr const char* kElevation = "elevation_m";
 inline constexpr const char* kPoints = "points";  ///< returns behind the cell (0 = unknown)
+/// Fused map only: 1 on a likely negative obstacle not seen yet (a trench shadow,
+/// negative_obstacle.hpp, whose traversability is still unknown), else 0.
+inline constexpr const char* kNegativeObstacle = "negative_obstacle";
 }  // namespace layer
 
 /// The map from points already in the map frame (z up) with their ground flags, on `geometry`.
