@@ -8,63 +8,91 @@
 
 namespace fieldlidar::terrain {
 
-namespace {
+namespace detail {
 
-/// One return of a column: horizontal range and height (m, from the sensor's foot), its index.
-struct ColumnReturn {
-  float r, z;
-  std::uint32_t index;
-  bool ground;
-};
+int azimuth_column(double dx, double dy, double column_rad, int columns) {
+  // atan(t) on [0, 1] within 1e-5 rad (Abramowitz & Stegun 4.4.49), folded into the octants.
+  const double ax = std::abs(dx), ay = std::abs(dy);
+  const bool steep = ay > ax;
+  const double t = steep ? ax / ay : ay / ax, t2 = t * t;
+  double a =
+      t * (0.9998660 + t2 * (-0.3302995 + t2 * (0.1801410 + t2 * (-0.0851330 + t2 * 0.0208351))));
+  if (steep) a = 0.5 * std::numbers::pi - a;
+  if (dx < 0) a = std::numbers::pi - a;
+  if (dy < 0) a = -a;
+  const double u = (a + std::numbers::pi) / column_rad;
+  const double edge = std::floor(u + 0.5);  // the nearest column edge
+  constexpr double kMargin_rad = 1e-4;      // ten times the arctangent's error
+  if (!(std::abs(u - edge) * column_rad > kMargin_rad)) {
+    const double exact = std::atan2(dy, dx) + std::numbers::pi;  // [0, 2 pi]
+    return std::min(columns - 1, int(exact / column_rad));
+  }
+  return std::min(columns - 1, int(u));
+}
 
-/// A sunk return waiting for the ground beyond to rise back: where its beam crossed the near
-/// ground's line (range, m), where it returned, and its depth below the line there.
-struct Sunk {
-  float r_cross, r, z, depth;
-  std::uint32_t index;
-};
+}  // namespace detail
 
-}  // namespace
+using detail::ColumnReturn;
+using detail::Sunk;
 
 TrenchScan find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
                                std::span<const std::uint8_t> is_ground,
                                const Eigen::Vector3d& sensor_m, double max_slope_deg,
                                const NegativeObstacleConfig& config) {
+  TrenchScratch scratch;
+  return find_trench_shadows(points_m, is_ground, sensor_m, max_slope_deg, config, scratch);
+}
+
+TrenchScan find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
+                               std::span<const std::uint8_t> is_ground,
+                               const Eigen::Vector3d& sensor_m, double max_slope_deg,
+                               const NegativeObstacleConfig& config, TrenchScratch& scratch) {
   TrenchScan out;
   if (!config.enabled || points_m.size() != is_ground.size()) return out;
   const double column_rad = config.column_width_deg * std::numbers::pi / 180.0;
   if (!(column_rad > 0)) return out;
   const int columns = std::max(1, int(std::ceil(2 * std::numbers::pi / column_rad)));
   // Counting sort of the returns into their columns.
-  std::vector<int> column_of(points_m.size(), -1);
-  std::vector<std::uint32_t> start(std::size_t(columns) + 1, 0);
+  auto& column_of = scratch.column_of;
+  auto& start = scratch.start;
+  auto& by_index = scratch.by_index;
+  column_of.assign(points_m.size(), -1);
+  start.assign(std::size_t(columns) + 1, 0);
+  by_index.resize(points_m.size());
+  const double min_range2 = config.min_range_m * config.min_range_m;
   for (std::size_t i = 0; i < points_m.size(); ++i) {
     const Eigen::Vector3d& p = points_m[i];
     if (!p.allFinite()) continue;
     const double dx = p.x() - sensor_m.x(), dy = p.y() - sensor_m.y();
-    if (dx * dx + dy * dy < config.min_range_m * config.min_range_m) continue;
-    const double a = std::atan2(dy, dx) + std::numbers::pi;  // [0, 2 pi]
-    column_of[i] = std::min(columns - 1, int(a / column_rad));
+    const double r2 = dx * dx + dy * dy;
+    if (r2 < min_range2) continue;
+    if (dx == 0 && dy == 0) {
+      column_of[i] =
+          std::min(columns - 1, int((std::atan2(dy, dx) + std::numbers::pi) / column_rad));
+    } else {
+      column_of[i] = detail::azimuth_column(dx, dy, column_rad, columns);
+    }
+    by_index[i] = {float(std::sqrt(r2)), float(p.z() - sensor_m.z()), std::uint32_t(i),
+                   is_ground[i] != 0};
     ++start[std::size_t(column_of[i]) + 1];
   }
   for (int c = 0; c < columns; ++c) start[c + 1] += start[c];
-  std::vector<ColumnReturn> sorted(start.back());
-  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-  for (std::size_t i = 0; i < points_m.size(); ++i) {
-    if (column_of[i] < 0) continue;
-    const Eigen::Vector3d& p = points_m[i];
-    const double dx = p.x() - sensor_m.x(), dy = p.y() - sensor_m.y();
-    sorted[fill[std::size_t(column_of[i])]++] = {float(std::sqrt(dx * dx + dy * dy)),
-                                                 float(p.z() - sensor_m.z()), std::uint32_t(i),
-                                                 is_ground[i] != 0};
-  }
+  auto& sorted = scratch.sorted;
+  sorted.resize(start.back());
+  scratch.fill.assign(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < points_m.size(); ++i)
+    if (column_of[i] >= 0) sorted[scratch.fill[std::size_t(column_of[i])]++] = by_index[i];
   const float max_rise = float(std::tan(max_slope_deg * std::numbers::pi / 180.0));
   const float min_depth = float(config.min_depth_m);
   const float curvature_half = 0.5f * float(config.ground_curvature_per_m);
-  std::vector<Sunk> sunk;
+  auto& sunk = scratch.sunk;
   for (int c = 0; c < columns; ++c) {
     const auto first = sorted.begin() + start[c], last = sorted.begin() + start[c + 1];
-    std::sort(first, last, [](const ColumnReturn& a, const ColumnReturn& b) { return a.r < b.r; });
+    // Sorted by range; a column already in strictly increasing range order (no ties, so one
+    // order only) is left as it is.
+    const auto nearer = [](const ColumnReturn& a, const ColumnReturn& b) { return a.r < b.r; };
+    const auto not_rising = [](const ColumnReturn& a, const ColumnReturn& b) { return a.r >= b.r; };
+    if (std::adjacent_find(first, last, not_rising) != last) std::sort(first, last, nearer);
     // The near ground's line: through the last ground return (r_a, z_a), with the slope from
     // an earlier one at least kBaseline_m nearer (r_b, z_b); none until two such are seen.
     constexpr float kBaseline_m = 0.5f;

@@ -25,6 +25,7 @@ struct TerrainMap::Impl {
   std::size_t scans = 0;
   Eigen::Vector3d last_sensor_m = Eigen::Vector3d::Zero();
   double last_stamp_s = std::numeric_limits<double>::quiet_NaN();
+  TrenchScratch trench_scratch;
 };
 
 namespace {
@@ -223,7 +224,7 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
         clear_ground[i] = 0;
     mark_trench_shadows(impl_->store,
                         find_trench_shadows(pts, clear_ground, sensor_m, c.robot.max_slope_deg,
-                                            f.negative_obstacles),
+                                            f.negative_obstacles, impl_->trench_scratch),
                         pts, cm);
   }
   if (f.see_through_stride > 0)

@@ -2,8 +2,10 @@
 // holding a trench ahead, a rock on one side and a crest falling away on the other: the trench's
 // hidden cells are marked before any return is seen in them, the shadows behind the rock and
 // beyond the crest are not.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -128,4 +130,37 @@ TEST(TerrainNegativeObstacle, GroundSeenSinceOverridesTheMark) {
     }
   map.add_points(level, ground, {6.0, 0.0, kSensorZ_m});
   EXPECT_EQ(flagged(map.global_map(), 9.0, 11.5, -2.0, 2.0), 0);
+}
+
+// The polynomial azimuth column is std::atan2's column everywhere: swept in steps finer than a
+// column, and right at each column's edges (where it defers to std::atan2).
+TEST(TerrainNegativeObstacle, AzimuthColumnIsAtan2Column) {
+  const double column_rad = 0.4 * std::numbers::pi / 180.0;
+  const int columns = int(std::ceil(2 * std::numbers::pi / column_rad));
+  const auto atan2_column = [&](double dx, double dy) {
+    return std::min(columns - 1, int((std::atan2(dy, dx) + std::numbers::pi) / column_rad));
+  };
+  int checked = 0, differ = 0;
+  for (int k = 0; k <= 2'000'000; ++k) {
+    const double a = -std::numbers::pi + 2 * std::numbers::pi * k / 2'000'000.0;
+    for (const double r : {0.7, 13.0, 95.0}) {
+      const double dx = r * std::cos(a), dy = r * std::sin(a);
+      differ += detail::azimuth_column(dx, dy, column_rad, columns) != atan2_column(dx, dy);
+      ++checked;
+    }
+  }
+  for (int c = 0; c <= columns; ++c)
+    for (const double off : {-1e-9, 0.0, 1e-9, 1e-5, -1e-5}) {
+      const double a = -std::numbers::pi + c * column_rad + off;
+      const double dx = std::cos(a), dy = std::sin(a);
+      differ += detail::azimuth_column(dx, dy, column_rad, columns) != atan2_column(dx, dy);
+      ++checked;
+    }
+  for (const double dx : {-1.0, 1.0, 0.0})
+    for (const double dy : {-0.0, 0.0, -1.0, 1.0})
+      if (dx != 0 || dy != 0) {
+        differ += detail::azimuth_column(dx, dy, column_rad, columns) != atan2_column(dx, dy);
+        ++checked;
+      }
+  EXPECT_EQ(differ, 0) << "of " << checked;
 }

@@ -73,11 +73,50 @@ struct TrenchScan {
   std::vector<std::uint32_t> level_ground;  ///< indices into the scan's returns
 };
 
+namespace detail {
+
+/// One return of a column: horizontal range and height (m, from the sensor's foot), its index.
+struct ColumnReturn {
+  float r, z;
+  std::uint32_t index;
+  bool ground;
+};
+
+/// A sunk return waiting for the ground beyond to rise back: where its beam crossed the near
+/// ground's line (range, m), where it returned, and its depth below that line there.
+struct Sunk {
+  float r_cross, r, z, depth;
+  std::uint32_t index;
+};
+
+/// The azimuth column (of `columns`, each column_rad wide, from azimuth -pi) of the horizontal
+/// offset (dx, dy), exactly int((atan2(dy, dx) + pi) / column_rad) clamped to columns - 1: by a
+/// polynomial arctangent (within 1e-5 rad), and by std::atan2 itself within 1e-4 rad of a
+/// column's edge. (dx, dy) must not be (0, 0).
+int azimuth_column(double dx, double dy, double column_rad, int columns);
+
+}  // namespace detail
+
+/// Working space of find_trench_shadows kept between scans, so that a map's updates allocate
+/// nothing for it once warm; what it holds between calls means nothing.
+struct TrenchScratch {
+  std::vector<std::int32_t> column_of;
+  std::vector<std::uint32_t> start, fill;
+  std::vector<detail::ColumnReturn> by_index, sorted;
+  std::vector<detail::Sunk> sunk;
+};
+
 /// The trench shadows of one scan: returns in the map frame (z up) with their ground flags, seen
 /// from sensor_m; max_slope_deg bounds the near ground's slope. Non-finite returns are skipped.
 TrenchScan find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
                                std::span<const std::uint8_t> is_ground,
                                const Eigen::Vector3d& sensor_m, double max_slope_deg,
                                const NegativeObstacleConfig& config);
+
+/// The same, with its working space in `scratch`.
+TrenchScan find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
+                               std::span<const std::uint8_t> is_ground,
+                               const Eigen::Vector3d& sensor_m, double max_slope_deg,
+                               const NegativeObstacleConfig& config, TrenchScratch& scratch);
 
 }  // namespace fieldlidar::terrain
