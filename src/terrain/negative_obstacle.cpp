@@ -8,9 +8,9 @@
 
 namespace fieldlidar::terrain {
 
-namespace detail {
+namespace {
 
-int azimuth_column(double dx, double dy, double column_rad, int columns) {
+inline int fast_azimuth_column(double dx, double dy, double column_rad, int columns) {
   // atan(t) on [0, 1] within 1e-5 rad (Abramowitz & Stegun 4.4.49), folded into the octants.
   const double ax = std::abs(dx), ay = std::abs(dy);
   const bool steep = ay > ax;
@@ -20,14 +20,22 @@ int azimuth_column(double dx, double dy, double column_rad, int columns) {
   if (steep) a = 0.5 * std::numbers::pi - a;
   if (dx < 0) a = std::numbers::pi - a;
   if (dy < 0) a = -a;
-  const double u = (a + std::numbers::pi) / column_rad;
-  const double edge = std::floor(u + 0.5);  // the nearest column edge
-  constexpr double kMargin_rad = 1e-4;      // ten times the arctangent's error
+  const double u = (a + std::numbers::pi) * (1.0 / column_rad);  // only near the edges exact
+  const double edge = std::floor(u + 0.5);                       // the nearest column edge
+  constexpr double kMargin_rad = 1e-4;                           // ten times the arctangent's error
   if (!(std::abs(u - edge) * column_rad > kMargin_rad)) {
     const double exact = std::atan2(dy, dx) + std::numbers::pi;  // [0, 2 pi]
     return std::min(columns - 1, int(exact / column_rad));
   }
   return std::min(columns - 1, int(u));
+}
+
+}  // namespace
+
+namespace detail {
+
+int azimuth_column(double dx, double dy, double column_rad, int columns) {
+  return fast_azimuth_column(dx, dy, column_rad, columns);
 }
 
 }  // namespace detail
@@ -70,7 +78,7 @@ TrenchScan find_trench_shadows(std::span<const Eigen::Vector3d> points_m,
       column_of[i] =
           std::min(columns - 1, int((std::atan2(dy, dx) + std::numbers::pi) / column_rad));
     } else {
-      column_of[i] = detail::azimuth_column(dx, dy, column_rad, columns);
+      column_of[i] = fast_azimuth_column(dx, dy, column_rad, columns);
     }
     by_index[i] = {float(std::sqrt(r2)), float(p.z() - sensor_m.z()), std::uint32_t(i),
                    is_ground[i] != 0};
