@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -19,6 +19,7 @@
 
 #include "commands.hpp"
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/people/clear_mot.hpp"
 #include "fieldlidar/people/leg_training.hpp"
@@ -47,6 +48,7 @@ struct EvalTrackingOptions {
   bool json = false;
   bool losses = false;     ///< 2D: where each scored annotated person is lost
   std::string losses_csv;  ///< and one row per scored annotated person
+  bool force = false;      ///< replace an existing losses_csv
   LegsRunOptions legs;
 };
 
@@ -101,26 +103,22 @@ PersonsPerFrame run_tracker(const EvalTrackingOptions& o, const TrackingTruth& t
   return out;
 }
 
-void write_losses_csv(const std::string& path, const std::vector<LossRow>& rows) {
-  std::ofstream out(path);
-  if (!out) throw Error(path + ": cannot be written (--losses-csv)");
-  out << "frame,truth_id,x_m,y_m,range_m,bearing_deg,loss\n";
+void write_losses_csv(const std::string& path, const std::vector<LossRow>& rows, bool force) {
+  std::string text = "frame,truth_id,x_m,y_m,range_m,bearing_deg,loss\n";
   for (const auto& r : rows) {
     const auto& p = r.truth.position_m;
-    out << fmt::format("{},{},{:.3f},{:.3f},{:.3f},{:.1f},{}\n", r.frame, r.truth.id, p.x(), p.y(),
-                       p.norm(), std::atan2(p.y(), p.x()) * 180 / M_PI,
-                       people::person_loss_name(r.loss));
+    text += fmt::format("{},{},{:.3f},{:.3f},{:.3f},{:.1f},{}\n", r.frame, r.truth.id, p.x(), p.y(),
+                        p.norm(), std::atan2(p.y(), p.x()) * 180 / std::numbers::pi,
+                        people::person_loss_name(r.loss));
   }
-  if (!out) throw Error(path + ": write failed (--losses-csv)");
+  io::write_file_atomic(path, text, force);
 }
 
 std::vector<IdentifiedPoint> in_wedge(const std::vector<IdentifiedPoint>& v,
                                       const std::vector<double>& wedge) {
-  if (wedge.size() != 2) return v;
   std::vector<IdentifiedPoint> out;
-  const double inf = std::numeric_limits<double>::infinity();
   for (const auto& p : v)
-    if (people::in_bearing_wedge(p.position_m, wedge[0], wedge[1], inf)) out.push_back(p);
+    if (in_wedge(p.position_m, wedge)) out.push_back(p);
   return out;
 }
 
@@ -148,13 +146,15 @@ void run_eval_tracking(EvalTrackingOptions o) {
   if (!o.losses_csv.empty()) o.losses = true;
   if (o.losses && !o.detections.empty())
     throw Error("eval-tracking: --losses traces the legs pipeline: run without --detections");
+  // Before the run: a file the user has is not replaced without --force.
+  if (!o.losses_csv.empty()) io::check_writable(o.losses_csv, o.force, {fs::path(o.input)});
   std::vector<LossRow> losses;
   const PersonsPerFrame tracked =
       o.detections.empty() ? run_tracker(o, truth, first, last, o.losses ? &losses : nullptr)
                            : read_person_tracks_csv(o.detections, truth.stamps_s);
   people::PersonLossCounts loss_counts{};
   for (const auto& r : losses) ++loss_counts[std::size_t(r.loss)];
-  if (!o.losses_csv.empty()) write_losses_csv(o.losses_csv, losses);
+  if (!o.losses_csv.empty()) write_losses_csv(o.losses_csv, losses, o.force);
   people::ClearMotScorer scorer(
       {.gate_m = o.gate_m, .count_track_side_switches = !o.paper_switches});
   std::size_t annotated = 0, tracked_all = 0, scans_with_truth = 0;
@@ -276,7 +276,8 @@ void add_eval_tracking_command(CLI::App& app) {
                 "reported");
   cmd->add_option("--losses-csv", o->losses_csv,
                   "2D: also write one row per scored annotated person with its loss (implies "
-                  "--losses)");
+                  "--losses); an existing file is replaced only with --force");
+  cmd->add_flag("--force", o->force, "Replace an existing --losses-csv file");
   cmd->add_option("--config", o->legs.config, "Leg detector YAML (as for `fieldlidar legs`)");
   cmd->add_option("--sensor", o->legs.sensor, "Sensor preset for 3D input without metadata");
   cmd->add_flag("--still", o->legs.still, "2D: the sensor does not move");

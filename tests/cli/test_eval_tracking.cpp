@@ -115,6 +115,10 @@ TEST(CliEvalTracking, LossesTellWhereTheAnnotatedPersonsAreLost) {
   EXPECT_EQ(line, "frame,truth_id,x_m,y_m,range_m,bearing_deg,loss");
   while (std::getline(in, line)) ++rows;
   EXPECT_EQ(rows, 133);
+  // The file is not replaced without --force, and that is said before the bag is run.
+  const auto again = test::run_cli("eval-tracking " + bag + " --losses-csv " + test::quoted(csv));
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.output.find("--force"), std::string::npos) << again.output;
 
   const auto kept = eval_json(bag + " --losses --compact-occupancy 0");
   ASSERT_FALSE(kept.is_null());
