@@ -25,9 +25,7 @@ Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityCon
 }
 
 Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
-                 int seen_no_ground_points, const Eigen::Vector2d& sensor_xy_m,
-                 double blind_radius_m, int blind_points, bool negative_impassable,
-                 const Eigen::Vector2d& goal_xy_m, double goal_clear_m) {
+                 const AreaGridRules& rules) {
   Grid2D out(area);
   auto tau = out.add_layer(L::kTraversability, NAN);
   auto imp = out.add_layer(L::kImpassable, NAN);
@@ -50,21 +48,22 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
       imp[i] = gimp[j];
       pts[i] = gpts[j];
       ground[i] = std::isfinite(gelev[j]);
-      if (negative_impassable && gneg[j] > 0.5f &&
-          (area.cell_center(ix, iy) - goal_xy_m).norm() > goal_clear_m)
+      if (rules.negative_impassable && gneg[j] > 0.5f &&
+          (area.cell_center(ix, iy) - rules.goal_xy_m).norm() > rules.goal_clear_m)
         imp[i] = 1.f;
-      if (!ground[i] && !std::isfinite(tau[i]) && pts[i] >= float(blind_points) &&
-          (area.cell_center(ix, iy) - sensor_xy_m).norm() < blind_radius_m)
+      if (!ground[i] && !std::isfinite(tau[i]) && pts[i] >= float(rules.blind_points) &&
+          (area.cell_center(ix, iy) - rules.sensor_xy_m).norm() < rules.blind_radius_m)
         imp[i] = 1.f;
     }
-  if (seen_no_ground_points <= 0) return out;
+  if (rules.seen_no_ground_points <= 0) return out;
   // Seen well, its whole 3 x 3 window seen, and no ground plane (a cell left unknown by the map's
   // full-window rule has one: its elevation): impassable.
   std::vector<std::size_t> no_ground;
   for (int iy = 1; iy + 1 < area.height; ++iy)
     for (int ix = 1; ix + 1 < area.width; ++ix) {
       const std::size_t i = area.linear_index(ix, iy);
-      if (std::isfinite(tau[i]) || ground[i] || pts[i] < float(seen_no_ground_points)) continue;
+      if (std::isfinite(tau[i]) || ground[i] || pts[i] < float(rules.seen_no_ground_points))
+        continue;
       bool window_seen = true;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx)

@@ -10,9 +10,13 @@ void Loop::scan() {
   const auto t0 = Clock::now();
   const sim::SimFrame frame = lidar_.scan(t_, poses_->lidar_pose(pose_));
   map_.add_scan(frame.cloud, sensor_, poses_->place_sweep(frame.cloud, t_, pose_));
-  grid_ = area_grid(map_, area_, cfg_.seen_no_ground_points, {me().x_m, me().y_m}, blind_radius_m_,
-                    3, cfg_.negative_obstacles_impassable, {goal_.x_m, goal_.y_m},
-                    cfg_.negative_goal_clear_m);
+  grid_ = area_grid(map_, area_,
+                    {.seen_no_ground_points = cfg_.seen_no_ground_points,
+                     .sensor_xy_m = {me().x_m, me().y_m},
+                     .blind_radius_m = blind_radius_m_,
+                     .negative_impassable = cfg_.negative_obstacles_impassable,
+                     .goal_xy_m = {goal_.x_m, goal_.y_m},
+                     .goal_clear_m = cfg_.negative_goal_clear_m});
   blocked_ = known_blocked(grid_);
   check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);
   map_updated_ = true;

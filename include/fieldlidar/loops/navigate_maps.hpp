@@ -19,27 +19,32 @@ namespace fieldlidar::loops {
 /// (the map's own formula without roughness, which the truth does not hold).
 Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityConfig& layers);
 
+/// What area_grid marks impassable beyond the fused map's own impassable cells.
+struct AreaGridRules {
+  /// A cell with at least this many returns behind it, its 8 neighbours seen too, but no
+  /// traversability and no ground plane (elevation): it was seen well and holds no ground
+  /// (ground too steep for the ground segmentation, such as a hill's flank, or a wall); 0 leaves
+  /// such cells unknown.
+  int seen_no_ground_points = 0;
+  /// Around the sensor at `sensor_xy_m`, within `blind_radius_m` (m; where its lowest beam cannot
+  /// reach the ground: mounting height / tan(-lowest elevation)), no return can be ground: a cell
+  /// there with `blind_points` returns and no ground plane (the top of a rock beside the robot at
+  /// the start, which the map cannot call an obstacle without the ground under it).
+  Eigen::Vector2d sensor_xy_m = Eigen::Vector2d::Zero();
+  double blind_radius_m = 0.0;
+  int blind_points = 3;
+  /// A likely negative obstacle (layer kNegativeObstacle: a trench shadow not seen yet), but
+  /// within `goal_clear_m` (m) of `goal_xy_m`: a guess from a shadow never makes a goal
+  /// unreachable; the robot goes to look, and a real ditch there is blocked by the map once seen.
+  bool negative_impassable = false;
+  Eigen::Vector2d goal_xy_m = Eigen::Vector2d::Zero();
+  double goal_clear_m = 0.0;
+};
+
 /// The fused map's traversability, impassable and points layers on `area` (cells the fused map has
-/// not seen stay unknown: NaN tau, 0 points). A cell with at least `seen_no_ground_points` returns
-/// behind it, its 8 neighbours seen too, but no traversability and no ground plane (elevation) is
-/// marked impassable: it was seen well and holds no ground
-/// (ground too steep for the ground segmentation, such as a hill's flank, or a wall); 0 leaves such
-/// cells unknown.
-///
-/// Around the sensor, within `blind_radius_m` (where its lowest beam cannot reach the ground:
-/// mounting height / tan(-lowest elevation)), no return can be ground: a cell there with
-/// `blind_points` returns and no ground plane is impassable too (the top of a rock beside the
-/// robot at the start, which the map cannot call an obstacle without the ground under it).
-///
-/// With `negative_impassable`, a likely negative obstacle (layer kNegativeObstacle: a trench
-/// shadow not seen yet) is impassable too, but within `goal_clear_m` of `goal_xy_m`: a guess from
-/// a shadow never makes a goal unreachable; the robot goes to look, and a real ditch there is
-/// blocked by the map once seen.
+/// not seen stay unknown: NaN tau, 0 points), with the cells `rules` name impassable too.
 Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
-                 int seen_no_ground_points = 0, const Eigen::Vector2d& sensor_xy_m = {},
-                 double blind_radius_m = 0.0, int blind_points = 3,
-                 bool negative_impassable = false, const Eigen::Vector2d& goal_xy_m = {},
-                 double goal_clear_m = 0.0);
+                 const AreaGridRules& rules = {});
 
 /// Cells never seen (no return) between inner_m and outer_m from the sensor are shadows: ground
 /// the sensor would have seen were it not hidden (behind a rock, inside a ditch or pit). They get
