@@ -278,7 +278,8 @@ void add_eval_tracking_command(CLI::App& app) {
                   "2D: also write one row per scored annotated person with its loss (implies "
                   "--losses); an existing file is replaced only with --force");
   cmd->add_flag("--force", o->force, "Replace an existing --losses-csv file");
-  cmd->add_option("--config", o->legs.config, "Leg detector YAML (as for `fieldlidar legs`)");
+  cmd->add_option("--config", o->legs.config,
+                  "Leg detector YAML with its optional `tracker:` map (as for `fieldlidar legs`)");
   cmd->add_option("--sensor", o->legs.sensor, "Sensor preset for 3D input without metadata");
   cmd->add_flag("--still", o->legs.still, "2D: the sensor does not move");
   cmd->add_flag("--no-classifier", o->legs.no_classifier, "2D: shape tests only");

@@ -266,9 +266,9 @@ void add_follow_command(CLI::App& app) {
                   "With --replay: nav_msgs/Odometry topic of the bag giving the robot's motion, or "
                   "a TUM pose file of the sensor (e.g. a simulate folder's poses_tum.txt) "
                   "(default: the robot stands still)");
-  cmd->add_option(
-      "--legs-config", o->legs_config,
-      "With --replay of 2D scans: leg detector YAML (default: the shipped legs_2d.yaml)");
+  cmd->add_option("--legs-config", o->legs_config,
+                  "With --replay of 2D scans: leg detector YAML and its optional `tracker:` map "
+                  "(default: the shipped legs_2d.yaml)");
   cmd->add_option("--out", o->out, "Output folder")->required();
   cmd->add_flag("--force", o->force, "Overwrite existing output files");
   cmd->callback([o] { run_follow(*o); });

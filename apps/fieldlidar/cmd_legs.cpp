@@ -144,7 +144,8 @@ void add_legs_command(CLI::App& app) {
   cmd->add_option("--out", o->out, "Detections CSV (stamp,kind,x,y,track_id)")->required();
   cmd->add_option("--config", o->config,
                   "Leg detector YAML (from legs-train; default for 2D scans: the shipped "
-                  "config/legs_2d.yaml with its learned classifier)");
+                  "config/legs_2d.yaml with its learned classifier); its optional `tracker:` map "
+                  "sets the 2D person tracker (keys and units: that file)");
   cmd->add_option("--truth", o->truth_topic,
                   "PoseArray topic of annotated legs: print recall and precision");
   cmd->add_option("--match-radius", o->match_radius_m, "Match distance for --truth (m)")

@@ -1,49 +1,19 @@
 // YAML form of the leg detector config (the seed's feature library as a file's text). Only text
 // is handled here: reading and writing files is the caller's job.
 
-#include <cstdio>
-#include <functional>
-#include <map>
-
-#include <yaml-cpp/yaml.h>
-
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/people/leg_training.hpp"
+#include "yaml_fields.hpp"
 
 namespace fieldlidar::people {
 
 namespace {
 
-struct Field {
-  std::function<std::string(const LegDetectorConfig&)> print;
-  std::function<void(LegDetectorConfig&, const YAML::Node&)> parse;
-  const char* comment;
-};
+using yaml_fields::field;
 
-template <class T>
-Field field(T LegDetectorConfig::*member, const char* comment) {
-  Field f;
-  f.comment = comment;
-  f.print = [member](const LegDetectorConfig& c) {
-    if constexpr (std::is_same_v<T, std::string>) {
-      return "\"" + c.*member + "\"";
-    } else if constexpr (std::is_same_v<T, bool>) {
-      return std::string(c.*member ? "true" : "false");
-    } else if constexpr (std::is_integral_v<T>) {
-      return std::to_string(c.*member);
-    } else {
-      char buf[64];
-      std::snprintf(buf, sizeof buf, "%.6g", double(c.*member));
-      return std::string(buf);
-    }
-  };
-  f.parse = [member](LegDetectorConfig& c, const YAML::Node& n) { c.*member = n.as<T>(); };
-  return f;
-}
-
-const std::vector<std::pair<std::string, Field>>& fields() {
+const yaml_fields::Fields<LegDetectorConfig>& fields() {
   using C = LegDetectorConfig;
-  static const std::vector<std::pair<std::string, Field>> f = {
+  static const yaml_fields::Fields<C> f = {
       {"curve_max", field(&C::curve_max, "delta_c: a leg arc has L_k / D_k below this")},
       {"path_min_m", field(&C::path_min_m, "L_min (m)")},
       {"path_max_m", field(&C::path_max_m, "L_max (m)")},
@@ -78,35 +48,20 @@ const std::vector<std::pair<std::string, Field>>& fields() {
 }  // namespace
 
 std::string to_yaml(const LegDetectorConfig& c) {
-  std::string s = "# fieldlidar leg detector (seed 000 feature library)\nlegs:\n";
-  for (const auto& [key, f] : fields())
-    s += "  " + key + ": " + f.print(c) + "  # " + f.comment + "\n";
-  return s;
+  return "# fieldlidar leg detector (seed 000 feature library)\n" +
+         yaml_fields::print(fields(), c, "legs");
 }
 
 LegDetectorConfig legs_config_from_yaml(const std::string& text, const std::string& source,
                                         const LegDetectorConfig& base) {
   LegDetectorConfig c = base;
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw Error(source + ": not valid YAML: " + e.what());
-  }
-  const YAML::Node legs = root["legs"] ? root["legs"] : root;
-  if (!legs.IsMap()) throw Error(source + ": expected a map of leg detector settings");
-  for (const auto& kv : legs) {
-    const auto key = kv.first.as<std::string>();
-    const auto it = std::find_if(fields().begin(), fields().end(),
-                                 [&](const auto& f) { return f.first == key; });
-    if (it == fields().end()) throw Error(source + ": unknown leg detector setting '" + key + "'");
-    try {
-      it->second.parse(c, kv.second);
-    } catch (const YAML::Exception&) {
-      throw Error(source + ": setting '" + key + "' has a bad value '" +
-                  (kv.second.IsScalar() ? kv.second.as<std::string>() : std::string("?")) + "'");
-    }
-  }
+  const YAML::Node root = yaml_fields::load(text, source);
+  // A file of settings for the legs alone may hold them at its root; the person tracker's
+  // `tracker:` map beside them is read by joint_tracker_config_from_yaml.
+  if (root.IsMap() && root["legs"])
+    yaml_fields::parse(fields(), root["legs"], c, source, "leg detector");
+  else
+    yaml_fields::parse(fields(), root, c, source, "leg detector", {"tracker"});
   if (!(c.path_min_m < c.path_max_m)) throw Error(source + ": path_min_m must be below path_max_m");
   if (!(c.curve_max > 0)) throw Error(source + ": curve_max must be positive");
   return c;

@@ -6,6 +6,7 @@
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/follow/replay.hpp"
+#include "fieldlidar/people/joint_tracker_yaml.hpp"
 #include "fieldlidar/people/leg_training.hpp"
 #include "support/shipped_data.hpp"
 
@@ -50,8 +51,10 @@ LegsRunner::LegsRunner(const LegsRunOptions& o)
   config_path_ = o.config.empty()
                      ? default_2d_config(o.no_classifier || o.seed_only, missing_config_)
                      : o.config;
+  std::string config_text;
   if (!config_path_.empty()) {
-    legs_ = people::legs_config_from_yaml(read_text(config_path_), config_path_, legs_);
+    config_text = read_text(config_path_);
+    legs_ = people::legs_config_from_yaml(config_text, config_path_, legs_);
     if (o.no_classifier) legs_.classifier_file.clear();
     if (!legs_.classifier_file.empty()) {
       // The learned classifier lives next to the config (legs-train writes both).
@@ -68,6 +71,9 @@ LegsRunner::LegsRunner(const LegsRunOptions& o)
   pipeline_config.estimate_ego_motion = !o.still;
   pipeline_config.compact_occupancy_weight = o.compact_occupancy;
   pipeline_config.trace_segments = o.trace_segments;
+  if (!config_text.empty())
+    pipeline_config.joint =
+        people::joint_tracker_config_from_yaml(config_text, config_path_, pipeline_config.joint);
   if (o.occupied_leg.size() == 2) {
     pipeline_config.occupied_leg_score_min = o.occupied_leg[0];
     pipeline_config.occupied_leg_evidence_min = o.occupied_leg[1];
