@@ -62,6 +62,21 @@ class RingIndex {
     return !(angle <= 2.5 * step && range <= far_m);
   }
 
+  /// Whether every return of `ring` within `half_width` rad of azimuth `az` lies beyond
+  /// `far_m` (or there is none): the beam passed over what lies nearer at that bearing. False
+  /// for a ring the cloud does not hold (nothing seen, nothing known).
+  bool passed_over(int ring, double az, double half_width, double far_m) const {
+    if (ring < 0 || std::size_t(ring) >= rings_.size() || rings_[ring].empty()) return false;
+    const auto& r = rings_[ring];
+    const double turn = 2 * std::numbers::pi, centre = std::remainder(az, turn);
+    for (const double c : {centre, centre + turn, centre - turn}) {
+      auto it = std::lower_bound(r.begin(), r.end(), std::make_pair(c - half_width, -1e30));
+      for (; it != r.end() && it->first <= c + half_width; ++it)
+        if (it->second <= far_m) return false;
+    }
+    return true;
+  }
+
  private:
   // The first return of `ring` beyond azimuth az (direction +1 or -1), round the full turn: its
   // angle from az (0, 2 pi) and its range. False when the ring holds none.

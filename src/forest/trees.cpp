@@ -82,6 +82,20 @@ double line_fill(std::span<const ScanSegment> segments, const Stem& stem) {
   return double(lines.size()) / double(lines.back() - lines.front() + 1);
 }
 
+// Whether the scan line above a stem's highest segment passed over it at its bearing.
+bool ends_below_next_line(std::span<const ScanSegment> segments, const RingIndex& rings,
+                          const Stem& stem, const TreeConfig& c) {
+  const ScanSegment* top = nullptr;
+  for (auto s : stem.segment_ids)
+    if (!top || segments[s].line > top->line) top = &segments[s];
+  if (!top) return false;
+  const Eigen::Vector2d xy = top->centroid.head<2>();
+  const double range = xy.norm();
+  if (!(range > 0)) return false;
+  const double half = std::atan2(0.5 * top->width_m, range) + 2 * rings.step(top->line);
+  return rings.passed_over(top->line + 1, std::atan2(xy.y(), xy.x()), half, range + c.top_clear_m);
+}
+
 std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const ScanSegment> segments,
                                    const RingIndex* rings, const Stem& stem,
                                    const GroundIndex& ground, const TreeConfig& c) {
@@ -131,6 +145,8 @@ std::optional<Tree> tree_from_stem(const PointCloud& cloud, std::span<const Scan
     }
   }
   if (band.size() < c.min_stem_points || h_max - h_min < c.min_extent_seen_m) return std::nullopt;
+  if (rings && h_max < c.min_top_seen_m && ends_below_next_line(segments, *rings, stem, c))
+    return std::nullopt;
   // A plot seen from all round sees its stems down to the floor: one that starts above breast
   // height is a branch or a piece of crown, and its circle at 1.3 m would be drawn where nothing
   // was seen.

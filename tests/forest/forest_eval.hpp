@@ -148,10 +148,10 @@ inline void score_frame(const sim::Scene& scene, const sim::SimFrame& frame,
     if (std::getenv("FOREST_DEBUG"))
       std::printf(
           "    dbh %.3f true %.3f arc %.0f res %.4f obs %zu range %.1f visible %.2f at %.2f "
-          "%.2f%s\n",
+          "%.2f seen %.2f-%.2f%s\n",
           d.dbh_m, best->dbh, d.arc_deg, d.residual_m, d.observations,
-          (p - sensor).head<2>().norm(), best->visible, best->xy.x(), best->xy.y(),
-          d.dbh_uncertain ? " uncertain" : "");
+          (p - sensor).head<2>().norm(), best->visible, best->xy.x(), best->xy.y(), d.z_min_seen_m,
+          d.z_max_seen_m, d.dbh_uncertain ? " uncertain" : "");
   }
   if (std::getenv("FOREST_DEBUG")) {
     for (const auto& t : truth)
@@ -163,8 +163,9 @@ inline void score_frame(const sim::Scene& scene, const sim::SimFrame& frame,
       bool m = false;
       for (const auto& t : truth) m |= (t.xy - p.head<2>()).norm() < match_m;
       if (!m && (p - sensor).head<2>().norm() <= range_m + 1.0)
-        std::printf("    FALSE dbh %.3f arc %.0f res %.4f obs %zu range %.1f\n", d.dbh_m, d.arc_deg,
-                    d.residual_m, d.observations, (p - sensor).head<2>().norm());
+        std::printf("    FALSE dbh %.3f arc %.0f res %.4f obs %zu range %.1f seen %.2f-%.2f\n",
+                    d.dbh_m, d.arc_deg, d.residual_m, d.observations, (p - sensor).head<2>().norm(),
+                    d.z_min_seen_m, d.z_max_seen_m);
       if (!m && (p - sensor).head<2>().norm() <= range_m + 1.0)
         std::printf("      at %.2f %.2f axis %.3f %.3f\n", p.x(), p.y(), d.axis.x(), d.axis.y());
     }

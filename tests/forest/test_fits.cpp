@@ -286,3 +286,55 @@ TEST(ForestFits, StemBehindTheSensorAcrossMinusPiPi) {
 
 }  // namespace
 }  // namespace fieldlidar::forest
+
+namespace fieldlidar::forest {
+namespace {
+
+// Something stem-like that ends below breast height (a 0.6 m stump or a shrub's column, its top
+// 1.15 m above the ground, 8 m ahead) under 16 lines from 0.05 to 1.55 m: its circle carried to
+// breast height is a diameter where nothing stands. The lines above pass over it, so it is no
+// trunk; a 0.3 m stem beside it, seen on every line, is kept, and so is a stem whose lines
+// above 1.2 m are blocked by a nearer crown (nothing is known above it).
+TEST(ForestFits, SomethingEndingBelowBreastHeightIsNoTrunkAStemHiddenAboveIs) {
+  auto lines = [](bool crown) {
+    std::vector<std::uint8_t> ground;
+    auto cloud = cast_rings(
+        16, 0.05, 0.1, {{8.0, -2.5, 0.15}},
+        [crown](int k) {
+          const double z = 0.05 + 0.1 * k;
+          std::vector<Eigen::Vector3d> c;
+          if (z < 1.2) c.emplace_back(8.0, 0.0, 0.3);
+          // A second stem, 8 m ahead to the left: its lines from 1.25 m up meet a crown at 5 m.
+          if (crown && z > 1.2)
+            c.emplace_back(5.0, 1.55, 0.4);
+          else
+            c.emplace_back(8.0, 2.5, 0.15);
+          return c;
+        },
+        ground, -25.0, 25.0);
+    return std::pair(cloud, ground);
+  };
+  auto near = [](const TreeResult& r, double y) {
+    int n = 0;
+    for (const auto& t : r.trees) n += std::abs(t.at_height(1.3).y() - y) < 0.5;
+    return n;
+  };
+  const auto [cloud, ground] = lines(false);
+  TreeConfig no_rule;
+  no_rule.min_top_seen_m = 0.0;
+  const auto before = extract_trees(cloud, ground, no_rule);
+  const auto after = extract_trees(cloud, ground);
+  EXPECT_EQ(near(before, 0.0), 1);  // the shrub, taken for a trunk without the rule
+  EXPECT_EQ(near(after, 0.0), 0);
+  EXPECT_EQ(near(after, -2.5), 1);
+  EXPECT_EQ(near(after, 2.5), 1);
+  const auto [crowned, ground2] = lines(true);
+  const auto hidden = extract_trees(crowned, ground2);
+  EXPECT_EQ(near(extract_trees(crowned, ground2, no_rule), 2.5), 1);
+  EXPECT_EQ(near(hidden, 0.0), 0);
+  EXPECT_EQ(near(hidden, -2.5), 1);
+  EXPECT_EQ(near(hidden, 2.5), 1);
+}
+
+}  // namespace
+}  // namespace fieldlidar::forest

@@ -1,6 +1,8 @@
 // Any seed and sensor on demand, for looking at seeds no test asserts (not run by default):
 //   FOREST_SEED=7 FOREST_SENSOR=os1|vlp16|tilting FOREST_FRAMES=10 FOREST_DEBUG=1 test_forest
 //   --gtest_also_run_disabled_tests --gtest_filter=ForestSim.DISABLED_Survey
+// with TreeConfig overrides FOREST_BRIDGED_RUNS, FOREST_MIN_TOP, FOREST_TOP_CLEAR and the score
+// rule's FOREST_MIN_VISIBLE.
 #include <cstdlib>
 #include <string>
 
@@ -20,6 +22,8 @@ TEST(ForestSim, DISABLED_Survey) {
   TreeConfig config;
   if (const char* b = std::getenv("FOREST_BRIDGED_RUNS"))
     config.segments.max_bridged_runs = std::size_t(std::atoi(b));
+  if (const char* v = std::getenv("FOREST_MIN_TOP")) config.min_top_seen_m = std::atof(v);
+  if (const char* v = std::getenv("FOREST_TOP_CLEAR")) config.top_clear_m = std::atof(v);
   ScoreRule rule;
   if (const char* v = std::getenv("FOREST_MIN_VISIBLE")) rule.min_visible = std::atof(v);
   const auto s = run_frames(seed ? std::atoi(seed) : 7, sensor, frames ? std::atoi(frames) : 10,

@@ -130,7 +130,14 @@ struct TreeConfig {
   double plot_max_residual_m = 0.03;  ///< the same for a plot cloud (no rings: TLS/MLS, mm noise)
   double min_arc_deg = 60.0;          ///< and those seen over a narrower arc
   double min_extent_seen_m = 1.0;     ///< and those whose stem points span less height
-  double dbh_height_m = 1.3;          ///< above the ground
+  /// A sweep's stem whose highest return lies below this height above its base (m; 0 = no such
+  /// rule) is dropped when the next scan line up passed over it at its bearing (its returns
+  /// there, if any, beyond the stem by top_clear_m): it ends there, a shrub whose rounded top
+  /// fits a wide circle at breast height by extrapolation, not a trunk. A stem whose next line
+  /// up is blocked, or meets the stem again (a nodding scanner's planes beside it), is kept.
+  double min_top_seen_m = 1.3;
+  double top_clear_m = 0.2;
+  double dbh_height_m = 1.3;        ///< above the ground
   double dbh_window_m = 1.0;        ///< stem points within this of DBH height (along the axis) fit
                                     ///< the cylinder; low branches and twigs are trimmed
   std::size_t min_stem_points = 8;  ///< fewer in the window: not a tree
