@@ -155,9 +155,13 @@ inline void score_frame(const sim::Scene& scene, const sim::SimFrame& frame,
   }
   if (std::getenv("FOREST_DEBUG")) {
     for (const auto& t : truth)
-      if (t.scored && !t.used)
-        std::printf("    MISS dbh %.3f hits %d range %.1f visible %.2f at %.2f %.2f\n", t.dbh,
-                    t.hits, t.range, t.visible, t.xy.x(), t.xy.y());
+      if (t.scored && !t.used) {
+        const Eigen::Vector3d q = T.inverse() * Eigen::Vector3d(t.xy.x(), t.xy.y(), sensor.z());
+        std::printf(
+            "    MISS dbh %.3f hits %d range %.1f visible %.2f at %.2f %.2f (sensor frame %.2f "
+            "%.2f)\n",
+            t.dbh, t.hits, t.range, t.visible, t.xy.x(), t.xy.y(), q.x(), q.y());
+      }
     for (const auto& d : trees) {
       const Eigen::Vector3d p = T * d.at_height(1.3);
       bool m = false;

@@ -31,11 +31,11 @@ TEST(ForestSim, Vlp16HeldOutSeed) {
   const auto s = run_frames(2, SensorModel::vlp16(), 10);
   s.print("VLP-16 seed 2 (held out), 10 frames");
   EXPECT_GT(s.truth, 60);
-  EXPECT_GE(s.recall(), 0.94);          // measured 0.969
+  EXPECT_GE(s.recall(), 0.95);          // measured 0.977 (0.969 before the fit's step control)
   EXPECT_GE(s.precision(), 0.97);       // 0.992
-  EXPECT_LE(s.pos_rmse(), 0.025);       // 0.0166
-  EXPECT_LE(s.dbh_rmse(), 0.0095);      // 0.0076
-  EXPECT_LE(s.dbh_all_rmse(), 0.0095);  // 0.0076
+  EXPECT_LE(s.pos_rmse(), 0.025);       // 0.0188
+  EXPECT_LE(s.dbh_rmse(), 0.0095);      // 0.0077
+  EXPECT_LE(s.dbh_all_rmse(), 0.0095);  // 0.0077
   EXPECT_LE(s.uncertain, 2);            // 0
 }
 
@@ -73,7 +73,7 @@ TEST(ForestSim, Os1HeldOutSeed) {
 TEST(ForestSim, Os1ThirdHeldOutSeed) {
   const auto s = run_frames(11, SensorModel::os1_64(), 10);
   s.print("OS1-64 seed 11 (held out), 10 frames");
-  EXPECT_GE(s.recall(), 0.93);         // measured 0.953
+  EXPECT_GE(s.recall(), 0.94);         // measured 0.960 (0.953 before the fit's step control)
   EXPECT_GE(s.precision(), 0.98);      // 0.993 (0.979 before stumps and shrub tops were dropped)
   EXPECT_LE(s.pos_rmse(), 0.025);      // 0.0208
   EXPECT_LE(s.dbh_rmse(), 0.016);      // 0.0136
@@ -87,10 +87,10 @@ TEST(ForestSim, Os1ThirdHeldOutSeed) {
 TEST(ForestSim, Vlp16StemCutNearBreastHeightMeasuredAboveIt) {
   const auto s = run_frames(5, SensorModel::vlp16(), 10);
   s.print("VLP-16 seed 5, 10 frames");
-  EXPECT_GE(s.recall(), 0.96);         // measured 0.988
+  EXPECT_GE(s.recall(), 0.96);         // measured 0.983
   EXPECT_GE(s.precision(), 0.98);      // 1.000
-  EXPECT_LE(s.dbh_rmse(), 0.011);      // 0.0091
-  EXPECT_LE(s.dbh_all_rmse(), 0.011);  // 0.0091 (0.0199 with the guess)
+  EXPECT_LE(s.dbh_rmse(), 0.011);      // 0.0090
+  EXPECT_LE(s.dbh_all_rmse(), 0.011);  // 0.0090 (0.0199 with the guess)
   EXPECT_LE(s.uncertain, 0);           // 1 before
 }
 
@@ -126,6 +126,32 @@ TEST(ForestSim, Tilting2dAndOs1SecondSeedReported) {
   EXPECT_LE(o.dbh_all_rmse(), 0.0155);  // 0.0132 with them
   EXPECT_LE(o.pos_rmse(), 0.035);       // 0.0283
   EXPECT_LE(o.uncertain, 4);
+}
+
+}  // namespace fieldlidar::forest::test
+
+namespace fieldlidar::forest::test {
+
+// Held-out seed 11, OS1-64, the frame at 12 s: a 0.101 m stem 11.7 m away, seen whole on 55
+// returns (one or two a line). Its returns span a few centimetres across the line of sight, so
+// the cylinder's depth is barely determined: full Gauss-Newton steps ran off to the radius
+// bound and the stem was dropped as no cylinder; a fit that ends farther from the returns than
+// it started is now done again with steps that bring it closer. (At 6.6 m, 21 s, the same stem
+// is still lost: its start circle lies at the radius bound already.)
+TEST(ForestSim, ThinStemFitDoesNotRunOff) {
+  const sim::Scene scene = sim::make_forest_scene({}, 11);
+  const auto motion = sim::drive_scene_route(scene, 31.0);
+  const sim::LidarSimulator simulator(scene, SensorModel::os1_64());
+  const auto frame = simulator.scan(12.0, motion.lidar_pose_fn()(12.0));
+  const auto ground = segmentation::segment_ground(frame.cloud, SensorModel::os1_64());
+  const auto result = extract_trees(frame.cloud, ground.is_ground);
+  const Eigen::Vector2d stem(24.39, 24.60);
+  const Tree* found = nullptr;
+  for (const auto& t : result.trees)
+    if (((frame.T_world_lidar_start * t.at_height(1.3)).head<2>() - stem).norm() < 0.3) found = &t;
+  ASSERT_NE(found, nullptr);
+  EXPECT_NEAR(found->dbh_m, 0.101, 0.03);
+  EXPECT_LT(found->residual_m, 0.06);
 }
 
 }  // namespace fieldlidar::forest::test
