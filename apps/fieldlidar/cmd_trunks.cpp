@@ -2,6 +2,8 @@
 // trees.csv, trees.geojson and a top-down picture of the stems as DBH circles over the points;
 // of a sequence: the pose of every scan tracked against a trunk map, and that map.
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -12,6 +14,7 @@
 
 #include "commands.hpp"
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/forest/stem_slice.hpp"
 #include "fieldlidar/forest/tracking.hpp"
 #include "fieldlidar/forest/trunks.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
@@ -130,6 +133,47 @@ void run_sequence(const TrunksOptions& o) {
   }
 }
 
+// A stem slice (a cloud under 0.5 m thick, cut at breast height from one stem or a whole plot):
+// each stem's circle, the diameter at the slice's height. No ground: z_base_m is the lowest
+// point of the stem's cluster.
+void run_slice(const TrunksOptions& o, const PointCloud& cloud) {
+  const fs::path out(o.out);
+  forest::StemSliceConfig sc;
+  sc.max_radius_m = o.max_radius_m;
+  const auto stems = forest::measure_slice_stems(cloud, sc);
+  double z_lo = INFINITY, z_hi = -INFINITY;
+  for (const auto& p : cloud.points)
+    if (p.is_valid()) z_lo = std::min(z_lo, double(p.z)), z_hi = std::max(z_hi, double(p.z));
+  std::vector<forest::Tree> trees;
+  for (const auto& s : stems) {
+    forest::Tree t;
+    t.id = std::uint32_t(trees.size() + 1);
+    t.base_m = {s.circle.center.x(), s.circle.center.y(), s.z_min_m};
+    t.dbh_m = 2 * s.circle.radius_m;
+    t.z_max_seen_m = s.z_max_m - s.z_min_m;
+    t.arc_deg = s.arc_deg;
+    t.residual_m = s.circle.residual_m;
+    t.observations = 1;
+    trees.push_back(t);
+  }
+  io::write_file_atomic(out / "trees.csv", trees_csv(trees, cloud.origin_m), o.force);
+  io::write_file_atomic(out / "trees.geojson", trees_geojson(trees, cloud.origin_m), o.force);
+  draw_trees(cloud, std::vector<std::uint8_t>(cloud.size(), 0), trees, out / "trees.png", o.force);
+  fmt::print(
+      "{}: a stem slice ({} points, {:.2f} m thick): {} stems, each a circle holding {} points "
+      "within {:.3f} m over {:.0f} deg or more; branches and other points left out -> {}\n",
+      o.input, cloud.valid_count(), z_hi - z_lo, trees.size(), sc.min_points, sc.inlier_band_m,
+      sc.min_arc_deg, out.string());
+  for (std::size_t k = 0; k < trees.size(); ++k) {
+    const Eigen::Vector3d c = trees[k].base_m + cloud.origin_m;
+    fmt::print(
+        "  stem {} at ({:.3f}, {:.3f}): diameter {:.3f} m ({} points on the circle, arc "
+        "{:.0f} deg, residual {:.4f} m)\n",
+        trees[k].id, c.x(), c.y(), trees[k].dbh_m, stems[k].inliers, stems[k].arc_deg,
+        stems[k].circle.residual_m);
+  }
+}
+
 void run(const TrunksOptions& o) {
   if (is_sequence(o.input)) return run_sequence(o);
   const fs::path out(o.out);
@@ -137,6 +181,7 @@ void run(const TrunksOptions& o) {
   fs::create_directories(out);
   for (const auto& n : names) io::check_writable(out / n, o.force, {fs::path(o.input)});
   const PointCloud cloud = io::read_cloud(o.input);
+  if (!cloud.fields.ring && forest::is_stem_slice(cloud)) return run_slice(o, cloud);
   // A sweep with rings gets the robust ground; a plot file, or a sweep without rings (its trunks
   // come from horizontal slices, as a plot's do), the grid: the ring-less sweep of forest_sloam
   // gave no stack at all on the robust ground.

@@ -111,3 +111,28 @@ TEST(CliTrunks, SimulatedDriveTracksPosesAndMapsTrunks) {
 
 }  // namespace
 }  // namespace fieldlidar::test
+
+namespace fieldlidar::test {
+namespace {
+
+// TreeLS's dbh.las, a 0.1 m slice of one stem with a branch running off it: one stem, its
+// diameter from the circle the branch does not widen (0.288 m; a least-squares circle through
+// every point reads 0.866 m).
+TEST(CliTrunks, StemSliceGivesTheStemsDiameter) {
+  FIELDLIDAR_REQUIRE_DATA("forest_tls/dbh.las");
+  const auto out = temp_dir("cli_trunks_slice") / "slice";
+  const auto r =
+      run_cli("trunks " + quoted(data_file("forest_tls/dbh.las")) + " --out " + quoted(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("a stem slice"), std::string::npos) << r.output;
+  std::string header;
+  const auto rows = csv_rows(out / "trees.csv", header);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_NEAR(rows[0][4], 0.288, 0.01);
+  EXPECT_NEAR(rows[0][1], 101.45, 0.02);  // the file's own coordinates
+  EXPECT_NEAR(rows[0][2], 152.02, 0.02);
+  EXPECT_GT(rows[0][9], 300.0);  // arc seen, deg
+}
+
+}  // namespace
+}  // namespace fieldlidar::test

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/forest/stem_slice.hpp"
 #include "fieldlidar/forest/tracking.hpp"
 #include "fieldlidar/forest/trunks.hpp"
 
@@ -334,6 +335,59 @@ TEST(ForestFits, SomethingEndingBelowBreastHeightIsNoTrunkAStemHiddenAboveIs) {
   EXPECT_EQ(near(hidden, 0.0), 0);
   EXPECT_EQ(near(hidden, -2.5), 1);
   EXPECT_EQ(near(hidden, 2.5), 1);
+}
+
+}  // namespace
+}  // namespace fieldlidar::forest
+
+namespace fieldlidar::forest {
+namespace {
+
+// A stem slice with a branch: 400 returns on a 0.30 m circle (2 mm noise) and 250 along a
+// branch leaving it, plus 50 scattered leaves. The RANSAC circle holds the stem (within 3 mm)
+// where a least-squares circle through every point is pulled wide by the branch.
+TEST(StemSlice, BranchDoesNotWidenTheStem) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  PointCloud cloud;
+  const Eigen::Vector2d c(4.0, -2.0);
+  for (int i = 0; i < 400; ++i) {
+    const double a = 2 * std::numbers::pi * u(rng), r = 0.15 + noise(rng);
+    cloud.push_back(Point{float(c.x() + r * std::cos(a)), float(c.y() + r * std::sin(a)),
+                          float(1.25 + 0.1 * u(rng))});
+  }
+  for (int i = 0; i < 250; ++i) {
+    const double t = 0.15 + 0.6 * u(rng);
+    cloud.push_back(Point{float(c.x() + t * 0.8 + noise(rng)), float(c.y() + t * 0.6 + noise(rng)),
+                          float(1.25 + 0.1 * u(rng))});
+  }
+  for (int i = 0; i < 50; ++i)
+    cloud.push_back(Point{float(c.x() - 0.5 + u(rng)), float(c.y() - 0.5 + u(rng)),
+                          float(1.25 + 0.1 * u(rng))});
+  ASSERT_TRUE(is_stem_slice(cloud));
+  const StemSlice s = measure_stem_slice(cloud);
+  ASSERT_TRUE(s.circle.ok);
+  EXPECT_NEAR(2 * s.circle.radius_m, 0.30, 0.003);
+  EXPECT_LT((s.circle.center - c).norm(), 0.003);
+  EXPECT_GE(s.inliers, 380u);
+  EXPECT_GT(s.arc_deg, 350.0);
+  std::vector<Eigen::Vector2d> xy;
+  for (const auto& p : cloud.points) xy.emplace_back(p.x, p.y);
+  EXPECT_GT(2 * fit_circle(xy, 0.03, 1.5, 30).radius_m, 0.35);  // the branch read into it
+
+  // A stem 2 m tall is no slice; a slice of scattered leaves holds no circle; bad settings.
+  PointCloud tall = cloud;
+  tall.push_back(Point{4.0f, -2.0f, 3.5f});
+  EXPECT_FALSE(is_stem_slice(tall));
+  PointCloud leaves;
+  for (int i = 0; i < 40; ++i)
+    leaves.push_back(Point{float(3 * u(rng)), float(3 * u(rng)), float(0.1 * u(rng))});
+  EXPECT_FALSE(measure_stem_slice(leaves).circle.ok);
+  EXPECT_FALSE(measure_stem_slice(PointCloud{}).circle.ok);
+  StemSliceConfig bad;
+  bad.inlier_band_m = 0.0;
+  EXPECT_THROW(measure_stem_slice(cloud, bad), Error);
 }
 
 }  // namespace
