@@ -19,7 +19,8 @@ struct Local {
 };
 
 // Sum of squared distances of the kept points from the surface of `m`.
-double cost(std::span<const Eigen::Vector3d> q, const std::vector<char>& keep, const Local& m) {
+double cylinder_cost(std::span<const Eigen::Vector3d> q, const std::vector<char>& keep,
+                     const Local& m) {
   double ss = 0;
   for (std::size_t i = 0; i < q.size(); ++i)
     if (keep[i]) ss += std::pow((q[i].head<2>() - m.c - m.s * q[i].z()).norm() - m.r, 2);
@@ -29,9 +30,9 @@ double cost(std::span<const Eigen::Vector3d> q, const std::vector<char>& keep, c
 // Gauss-Newton on |q_xy - c - s q_z| - r over the kept points; s held at 0 unless fit_slope.
 // With `backtrack`, a step that does not lower the cost is halved until it does (at most 12
 // times, then the fit stops where it is).
-void gauss_newton(std::span<const Eigen::Vector3d> q, const std::vector<char>& keep, Local& m,
-                  bool fit_slope, double min_r, double max_r, bool backtrack) {
-  double current = backtrack ? cost(q, keep, m) : 0.0;
+void cylinder_gauss_newton(std::span<const Eigen::Vector3d> q, const std::vector<char>& keep,
+                           Local& m, bool fit_slope, double min_r, double max_r, bool backtrack) {
+  double current = backtrack ? cylinder_cost(q, keep, m) : 0.0;
   for (int it = 0; it < 15; ++it) {
     Eigen::Matrix<double, 5, 5> H = Eigen::Matrix<double, 5, 5>::Zero();
     Eigen::Matrix<double, 5, 1> g = Eigen::Matrix<double, 5, 1>::Zero();
@@ -62,7 +63,7 @@ void gauss_newton(std::span<const Eigen::Vector3d> q, const std::vector<char>& k
       next.s += step.segment<2>(2);
       next.r = std::clamp(m.r + step(4), min_r, max_r);
       if (!backtrack) break;
-      const double next_cost = cost(q, keep, next);
+      const double next_cost = cylinder_cost(q, keep, next);
       if (next_cost <= current) {
         current = next_cost;
         break;
@@ -82,13 +83,13 @@ void gauss_newton(std::span<const Eigen::Vector3d> q, const std::vector<char>& k
 double solve(std::span<const Eigen::Vector3d> q, const std::vector<char>& keep, Local& m,
              bool fit_slope, double min_r, double max_r) {
   const Local start = m;
-  gauss_newton(q, keep, m, fit_slope, min_r, max_r, false);
-  if (!(cost(q, keep, m) <= cost(q, keep, start))) {
+  cylinder_gauss_newton(q, keep, m, fit_slope, min_r, max_r, false);
+  if (!(cylinder_cost(q, keep, m) <= cylinder_cost(q, keep, start))) {
     m = start;
-    gauss_newton(q, keep, m, fit_slope, min_r, max_r, true);
+    cylinder_gauss_newton(q, keep, m, fit_slope, min_r, max_r, true);
   }
   const double n = double(std::count(keep.begin(), keep.end(), char(1)));
-  return n > 0 ? std::sqrt(cost(q, keep, m) / n) : 0.0;
+  return n > 0 ? std::sqrt(cylinder_cost(q, keep, m) / n) : 0.0;
 }
 
 // Per-bin circle fits (config.start_bin_m of local height, at least min_points each): the

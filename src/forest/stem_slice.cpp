@@ -13,7 +13,8 @@ namespace fieldlidar::forest {
 namespace {
 
 // The circle through three points; ok = false when they are (nearly) collinear.
-Circle through(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+Circle circle_through(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      const Eigen::Vector2d& c) {
   Circle out;
   const Eigen::Vector2d ab = b - a, ac = c - a;
   const double d = 2 * (ab.x() * ac.y() - ab.y() * ac.x());
@@ -26,8 +27,8 @@ Circle through(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::
   return out;
 }
 
-std::vector<Eigen::Vector2d> within_band(std::span<const Eigen::Vector2d> points, const Circle& c,
-                                         double band) {
+std::vector<Eigen::Vector2d> slice_within_band(std::span<const Eigen::Vector2d> points,
+                                               const Circle& c, double band) {
   std::vector<Eigen::Vector2d> in;
   for (const auto& p : points)
     if (std::abs((p - c.center).norm() - c.radius_m) <= band) in.push_back(p);
@@ -51,7 +52,7 @@ Circle ransac_circle(std::span<const Eigen::Vector2d> points, const StemSliceCon
   for (int it = 0; it < config.iterations; ++it) {
     const std::size_t i = pick(rng), j = pick(rng), k = pick(rng);
     if (i == j || j == k || i == k) continue;
-    const Circle c = through(points[i], points[j], points[k]);
+    const Circle c = circle_through(points[i], points[j], points[k]);
     if (!c.ok || c.radius_m < config.min_radius_m || c.radius_m > config.max_radius_m) continue;
     std::size_t count = 0;
     for (const auto& p : points)
@@ -61,13 +62,13 @@ Circle ransac_circle(std::span<const Eigen::Vector2d> points, const StemSliceCon
   if (best_count < config.min_points) return Circle{};
   // Refined on its inliers (a geometric fit), twice: the refined circle takes its own band.
   for (int round = 0; round < 2; ++round) {
-    const auto in = within_band(points, best, config.inlier_band_m);
+    const auto in = slice_within_band(points, best, config.inlier_band_m);
     if (in.size() < config.min_points) break;
     const Circle refined = fit_circle(in, config.min_radius_m, config.max_radius_m, 20);
     if (!refined.ok) break;
     best = refined;
   }
-  const auto in = within_band(points, best, config.inlier_band_m);
+  const auto in = slice_within_band(points, best, config.inlier_band_m);
   if (inliers) *inliers = in.size();
   double ss = 0;
   for (const auto& p : in) ss += std::pow((p - best.center).norm() - best.radius_m, 2);
@@ -97,7 +98,8 @@ StemSlice slice_of(std::span<const Eigen::Vector2d> xy, std::span<const double> 
   }
   s.circle = ransac_circle(xy, config, &s.inliers);
   if (s.circle.ok)
-    s.arc_deg = arc_coverage_deg(within_band(xy, s.circle, config.inlier_band_m), s.circle.center);
+    s.arc_deg =
+        arc_coverage_deg(slice_within_band(xy, s.circle, config.inlier_band_m), s.circle.center);
   return s;
 }
 

@@ -11,7 +11,7 @@ namespace {
 
 using yaml_fields::field;
 
-const yaml_fields::Fields<JointTrackerConfig>& fields() {
+const yaml_fields::Fields<JointTrackerConfig>& tracker_fields() {
   using C = JointTrackerConfig;
   static const yaml_fields::Fields<C> f = {
       {"pair_distance_max_m", field(&C::pair_distance_max_m, "two legs of one person (m)")},
@@ -54,7 +54,7 @@ const yaml_fields::Fields<JointTrackerConfig>& fields() {
   return f;
 }
 
-void check(const JointTrackerConfig& c, const std::string& source) {
+void check_tracker(const JointTrackerConfig& c, const std::string& source) {
   auto need = [&](bool ok, const char* what) {
     if (!ok) throw Error(source + ": tracker setting " + what);
   };
@@ -84,7 +84,7 @@ void check(const JointTrackerConfig& c, const std::string& source) {
 
 std::string to_yaml(const JointTrackerConfig& c) {
   return "# person tracker (legs tracked jointly; confidence from the legs' scores)\n" +
-         yaml_fields::print(fields(), c, "tracker");
+         yaml_fields::print(tracker_fields(), c, "tracker");
 }
 
 JointTrackerConfig joint_tracker_config_from_yaml(const std::string& text,
@@ -93,8 +93,8 @@ JointTrackerConfig joint_tracker_config_from_yaml(const std::string& text,
   JointTrackerConfig c = base;
   const YAML::Node root = yaml_fields::load(text, source);
   if (!root.IsMap() || !root["tracker"]) return c;
-  yaml_fields::parse(fields(), root["tracker"], c, source, "tracker");
-  check(c, source);
+  yaml_fields::parse(tracker_fields(), root["tracker"], c, source, "tracker");
+  check_tracker(c, source);
   return c;
 }
 

@@ -11,7 +11,7 @@ namespace {
 
 using yaml_fields::field;
 
-const yaml_fields::Fields<LegDetectorConfig>& fields() {
+const yaml_fields::Fields<LegDetectorConfig>& legs_fields() {
   using C = LegDetectorConfig;
   static const yaml_fields::Fields<C> f = {
       {"curve_max", field(&C::curve_max, "delta_c: a leg arc has L_k / D_k below this")},
@@ -49,7 +49,7 @@ const yaml_fields::Fields<LegDetectorConfig>& fields() {
 
 std::string to_yaml(const LegDetectorConfig& c) {
   return "# fieldlidar leg detector (seed 000 feature library)\n" +
-         yaml_fields::print(fields(), c, "legs");
+         yaml_fields::print(legs_fields(), c, "legs");
 }
 
 LegDetectorConfig legs_config_from_yaml(const std::string& text, const std::string& source,
@@ -59,9 +59,9 @@ LegDetectorConfig legs_config_from_yaml(const std::string& text, const std::stri
   // A file of settings for the legs alone may hold them at its root; the person tracker's
   // `tracker:` map beside them is read by joint_tracker_config_from_yaml.
   if (root.IsMap() && root["legs"])
-    yaml_fields::parse(fields(), root["legs"], c, source, "leg detector");
+    yaml_fields::parse(legs_fields(), root["legs"], c, source, "leg detector");
   else
-    yaml_fields::parse(fields(), root, c, source, "leg detector", {"tracker"});
+    yaml_fields::parse(legs_fields(), root, c, source, "leg detector", {"tracker"});
   if (!(c.path_min_m < c.path_max_m)) throw Error(source + ": path_min_m must be below path_max_m");
   if (!(c.curve_max > 0)) throw Error(source + ": curve_max must be positive");
   return c;
