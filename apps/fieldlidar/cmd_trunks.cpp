@@ -158,7 +158,7 @@ void run_slice(const TrunksOptions& o, const PointCloud& cloud) {
   }
   io::write_file_atomic(out / "trees.csv", trees_csv(trees, cloud.origin_m), o.force);
   io::write_file_atomic(out / "trees.geojson", trees_geojson(trees, cloud.origin_m), o.force);
-  draw_trees(cloud, std::vector<std::uint8_t>(cloud.size(), 0), trees, out / "trees.png", o.force);
+  draw_slice(cloud, trees, out / "trees.png", o.force);
   fmt::print(
       "{}: a stem slice ({} points, {:.2f} m thick): {} stems, each a circle holding {} points "
       "within {:.3f} m over {:.0f} deg or more; branches and other points left out -> {}\n",

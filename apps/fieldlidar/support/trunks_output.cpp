@@ -113,6 +113,24 @@ void draw_trees(const PointCloud& cloud, const std::vector<std::uint8_t>& ground
   canvas.save_png(path, force);
 }
 
+void draw_slice(const PointCloud& cloud, const std::vector<forest::Tree>& trees,
+                const std::filesystem::path& path, bool force) {
+  const Bounds3 b = compute_bounds(cloud);
+  if (b.empty()) return;
+  TopDownCanvas canvas(b.min.head<2>(), b.max.head<2>());
+  for (const auto& p : cloud.points)
+    if (p.is_valid()) canvas.dot({p.x, p.y}, {0.15, 0.15, 0.2}, 0.7);
+  for (const auto& t : trees) {
+    const Eigen::Vector2d c = t.base_m.head<2>();
+    canvas.circle(c, t.dbh_m / 2, palette(t.id), 1.5);
+    canvas.text(c + Eigen::Vector2d(t.dbh_m / 2 + 0.02, 0), label(t), {0, 0, 0}, 11);
+  }
+  canvas.title(fmt::format("stem slice: {} stems", trees.size()));
+  canvas.legend({{"points of the slice", {0.15, 0.15, 0.2}},
+                 {"stem circle (diameter at the slice)", palette(1)}});
+  canvas.save_png(path, force);
+}
+
 void draw_trunk_map(const std::vector<forest::Tree>& trees,
                     const std::vector<Eigen::Vector3d>& path, const std::filesystem::path& file,
                     bool force) {

@@ -21,6 +21,9 @@ std::string trees_csv(const std::vector<forest::Tree>& trees, const Eigen::Vecto
 /// dbh_uncertain).
 std::string trees_geojson(const std::vector<forest::Tree>& trees, const Eigen::Vector3d& origin);
 
+/// A stem slice's picture: every point of the slice, each stem's circle with its id.
+void draw_slice(const PointCloud& cloud, const std::vector<forest::Tree>& trees,
+                const std::filesystem::path& path, bool force);
 /// Top-down: every point faint, the 1.2-1.4 m slice above the ground dark, the DBH circles.
 void draw_trees(const PointCloud& cloud, const std::vector<std::uint8_t>& ground,
                 const std::vector<forest::Tree>& trees, const std::filesystem::path& path,
