@@ -42,6 +42,7 @@ struct TrainOptions {
   bool force = false;
   bool classifier = true;
   int rounds = 200;
+  std::vector<std::string> exclude_features;
   people::SegmentAugmentationConfig augment;  // off: measured not to help (README)
 };
 
@@ -176,6 +177,7 @@ void run_train(const TrainOptions& o) {
                   " segments");
     people::BoostOptions bo;
     bo.rounds = o.rounds;
+    bo.excluded_features = o.exclude_features;
     const auto model = people::train_leg_classifier(samples.features, samples.is_leg, bo);
     model_path = out.parent_path() / (out.stem().string() + "_classifier.yaml");
     io::check_writable(model_path, o.force);
@@ -252,6 +254,9 @@ void add_legs_train_command(CLI::App& app) {
   cmd->add_option("--rounds", o->rounds, "Boosting rounds of the leg classifier")
       ->capture_default_str()
       ->check(whole_in(1, 5000));
+  cmd->add_option("--exclude-features", o->exclude_features,
+                  "2D classifier: features no tree may split on (names as in the classifier YAML, "
+                  "e.g. range_m points angular_width_rad spacing_m: the range-dependent ones)");
   cmd->add_option("--augment", o->augment.copies,
                   "2D classifier: copies of each training segment re-seen farther and narrower "
                   "(0: none)")

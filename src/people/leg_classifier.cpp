@@ -171,6 +171,13 @@ LegClassifier train_leg_classifier(std::span<const SegmentFeatures> x, std::span
     throw std::invalid_argument("train_leg_classifier: need both legs and other segments");
   const int bins = std::clamp(o.bins, 2, 255);
   // Candidate thresholds per feature: quantiles of the training values.
+  std::vector<char> excluded(kSegmentFeatures, 0);
+  for (const auto& name : o.excluded_features) {
+    const auto it =
+        std::find_if(kNames.begin(), kNames.end(), [&](const char* k) { return name == k; });
+    if (it == kNames.end()) throw Error("leg classifier: unknown feature '" + name + "'");
+    excluded[std::size_t(it - kNames.begin())] = 1;
+  }
   Binned d;
   d.cuts.resize(kSegmentFeatures);
   d.bin.assign(kSegmentFeatures, std::vector<std::uint8_t>(n));
@@ -182,6 +189,7 @@ LegClassifier train_leg_classifier(std::span<const SegmentFeatures> x, std::span
     for (int b = 1; b < bins; ++b)
       c.push_back(v[std::min(n - 1, n * std::size_t(b) / std::size_t(bins))]);
     c.erase(std::unique(c.begin(), c.end()), c.end());
+    if (excluded[k]) c.clear();  // one bin: no split on it
     for (std::size_t i = 0; i < n; ++i)
       d.bin[k][i] = std::uint8_t(std::lower_bound(c.begin(), c.end(), x[i][k]) - c.begin());
   }

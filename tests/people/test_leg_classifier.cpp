@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <random>
+#include <set>
+#include <string>
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/people/leg_classifier.hpp"
@@ -89,6 +91,36 @@ TEST(LegClassifier, LearnsArcsFromWallsAndRoundTripsThroughYaml) {
   const auto d = detect_legs_2d(scan, c);
   ASSERT_EQ(d.legs.size(), 1u);
   EXPECT_NEAR(d.legs[0].position_m.x(), 1.95, 0.03);
+}
+
+// Features excluded from training are never split on, and an unknown name is an error.
+TEST(LegClassifier, ExcludedFeaturesAreNeverUsed) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> range(1.0, 6.0), radius(0.04, 0.08), width(0.2, 1.0);
+  std::vector<SegmentFeatures> x;
+  std::vector<char> y;
+  for (int i = 0; i < 200; ++i) {
+    const auto a = arc(range(rng), radius(rng), 6 + i % 8);
+    x.push_back(segment_features(a, 0, a.size()));
+    y.push_back(1);
+    const auto l = line(range(rng), width(rng), 6 + i % 20);
+    x.push_back(segment_features(l, 0, l.size()));
+    y.push_back(0);
+  }
+  BoostOptions o;
+  o.rounds = 30;
+  const auto names = segment_feature_names();
+  const auto all = train_leg_classifier(x, y, o);
+  std::set<int> used;
+  for (const auto& t : all.trees) used.insert(t.feature);
+  ASSERT_FALSE(used.empty());
+  for (const int f : used) o.excluded_features.push_back(names[std::size_t(f)]);
+  const auto without = train_leg_classifier(x, y, o);
+  ASSERT_FALSE(without.trees.empty());
+  for (const auto& t : without.trees)
+    EXPECT_EQ(used.count(t.feature), 0u) << names[std::size_t(t.feature)];
+  o.excluded_features = {"range_meters"};
+  EXPECT_THROW(train_leg_classifier(x, y, o), Error);
 }
 
 TEST(LegClassifier, RejectsBadInput) {

@@ -81,6 +81,10 @@ struct BoostOptions {
   /// classes, smaller values favour precision over recall.
   double positive_weight = 0.5;
   double threshold = -1.25;  ///< written into the classifier: leg when score > threshold
+  /// Features (segment_feature_names()) no tree may split on, e.g. the range-dependent ones
+  /// ("range_m", "points", "angular_width_rad", "spacing_m") for a classifier meant to judge legs
+  /// farther than its training legs stood. Unknown names raise fieldlidar::Error.
+  std::vector<std::string> excluded_features;
 };
 
 /// Real AdaBoost (Schapire and Singer) on greedy depth-1 or depth-2 trees. Throws
