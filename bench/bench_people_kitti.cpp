@@ -41,12 +41,12 @@ void BM_DetectPeople3D_KittiHDL64E(benchmark::State& state) {
     return;
   }
   const follow::FollowConfig cfg;
-  const auto legs = follow::legs_for_sensor(cfg.legs, sensor);
   std::size_t k = 0, people = 0;
   for (auto _ : state) {
     const auto& cloud = frames[k++ % frames.size()];
-    const auto clusters = follow::leg_band_clusters(cloud, sensor, cfg);
-    const auto det = people::detect_legs_3d(cloud, clusters, legs);
+    double h = 0;
+    const auto clusters = follow::leg_band_clusters(cloud, sensor, cfg, &h);
+    const auto det = follow::detect_people_3d(cloud, clusters, sensor, h, cfg);
     people += det.people.size();
     benchmark::DoNotOptimize(det.legs.data());
   }

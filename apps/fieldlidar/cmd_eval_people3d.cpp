@@ -100,8 +100,7 @@ void run(const People3dOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     double h = 0;
     const auto clusters = follow::leg_band_clusters(cloud, *sensor, cfg, &h);
-    const auto det =
-        people::detect_legs_3d(cloud, clusters, follow::legs_for_sensor(cfg.legs, *sensor));
+    const auto det = follow::detect_people_3d(cloud, clusters, *sensor, h, cfg);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     ms_total += ms, ms_max = std::max(ms_max, ms);

@@ -91,14 +91,27 @@ std::optional<std::uint32_t> person_ahead(const people::PersonTracker& tracker, 
 
 }  // namespace
 
+people::LegDetection detect_people_3d(const PointCloud& cloud,
+                                      std::span<const std::vector<std::uint32_t>> clusters,
+                                      const SensorModel& sensor, double sensor_height_m,
+                                      const FollowConfig& config) {
+  auto det = people::detect_legs_3d(cloud, clusters, legs_for_sensor(config.legs, sensor));
+  const auto body = people::person_bodies(cloud, sensor, sensor_height_m, det.people, config.body);
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < det.people.size(); ++k)
+    if (body[k]) det.people[kept++] = det.people[k];
+  det.people.resize(kept);
+  return det;
+}
+
 Perception perceive(const PointCloud& cloud, const SensorModel& sensor, const Pose& T_world_lidar,
                     const FollowConfig& config) {
   Perception out;
   const auto indices =
       leg_band_clusters(cloud, sensor, config, &out.sensor_height_m, &out.ground_points);
   out.clusters = indices.size();
-  // Step 3: leg arcs on several rings, legs paired into people.
-  const auto det = people::detect_legs_3d(cloud, indices, legs_for_sensor(config.legs, sensor));
+  // Step 3: leg arcs on several rings, legs paired into people with a body above.
+  const auto det = detect_people_3d(cloud, indices, sensor, out.sensor_height_m, config);
   auto to_world = [&](const Eigen::Vector2d& p) {
     return (T_world_lidar * Eigen::Vector3d(p.x(), p.y(), 0.0)).head<2>().eval();
   };

@@ -15,6 +15,7 @@
 #include "fieldlidar/core/sensor_model.hpp"
 #include "fieldlidar/follow/boundary.hpp"
 #include "fieldlidar/follow/controller.hpp"
+#include "fieldlidar/people/body_check.hpp"
 #include "fieldlidar/people/leg_detector.hpp"
 #include "fieldlidar/people/tracker.hpp"
 #include "fieldlidar/segmentation/clustering.hpp"
@@ -36,6 +37,8 @@ struct FollowConfig {
   people::LegDetectorConfig legs = default_3d_legs();
   double leg_height_min_m = 0.08;  ///< leg arcs are taken from points this high above ground
   double leg_height_max_m = 0.95;  ///< up to this (m); torso and arms are above
+  /// A leg pair is a person only with a body above it (people/body_check.hpp).
+  people::BodyCheckConfig body;
   people::TrackerConfig tracker;
   DriveConfig drive;
   SafetyConfig safety;
@@ -74,6 +77,14 @@ std::vector<std::vector<std::uint32_t>> leg_band_clusters(const PointCloud& clou
 /// The 3D leg config used for a sensor: the azimuth split set from its column spacing when 0.
 people::LegDetectorConfig legs_for_sensor(const people::LegDetectorConfig& legs,
                                           const SensorModel& sensor);
+
+/// Step 3: leg arcs on several rings of the leg band's `clusters`, legs paired into people, and
+/// of those the pairs with a person's body above (config.body); lidar frame, the ground
+/// `sensor_height_m` below the sensor.
+people::LegDetection detect_people_3d(const PointCloud& cloud_lidar,
+                                      std::span<const std::vector<std::uint32_t>> clusters,
+                                      const SensorModel& sensor, double sensor_height_m,
+                                      const FollowConfig& config);
 
 /// Steps 1-3: ground, clusters, leg arcs and pairing for a sweep in the lidar frame (de-skewed to
 /// `T_world_lidar`), results transformed into the world frame.

@@ -1,0 +1,61 @@
+// Leg pairs with a body above them (people::person_bodies).
+#include "fieldlidar/people/body_check.hpp"
+
+#include <cmath>
+#include <set>
+
+namespace fieldlidar::people {
+namespace {
+
+// Beams of `sensor` that pass between heights lo and hi above the ground at range r.
+int beams_crossing(const SensorModel& sensor, double sensor_height_m, double r, double lo,
+                   double hi) {
+  int n = 0;
+  for (const double a : sensor.beam_altitudes_rad) {
+    const double z = sensor_height_m + r * std::tan(a);
+    n += z >= lo && z <= hi;
+  }
+  return n;
+}
+
+}  // namespace
+
+std::vector<char> person_bodies(const PointCloud& cloud, const SensorModel& sensor,
+                                double sensor_height_m, std::span<const Person> people,
+                                const BodyCheckConfig& c) {
+  std::vector<char> ok(people.size(), 1);
+  if (!c.enabled || people.empty()) return ok;
+  // The returns that can matter: between the torso band's foot and the top of the clear band.
+  struct Band {
+    Eigen::Vector2d xy;
+    double above;
+    int ring;
+  };
+  std::vector<Band> band;
+  for (const auto& p : cloud.points) {
+    if (!p.is_valid()) continue;
+    const double above = double(p.z) + sensor_height_m;
+    if (above >= c.torso_min_m && above <= c.clear_max_m)
+      band.push_back({{p.x, p.y}, above, int(p.ring)});
+  }
+  const double r2 = c.radius_m * c.radius_m;
+  for (std::size_t k = 0; k < people.size(); ++k) {
+    const Eigen::Vector2d at = people[k].position_m;
+    const double range = at.norm();
+    std::set<int> torso_rings;
+    bool head_clear = true;
+    for (const auto& b : band) {
+      if ((b.xy - at).squaredNorm() > r2) continue;
+      if (b.above <= c.torso_max_m) torso_rings.insert(b.ring);
+      if (b.above >= c.clear_min_m) head_clear = false;
+    }
+    const int torso_beams =
+        beams_crossing(sensor, sensor_height_m, range, c.torso_min_m, c.torso_max_m);
+    const bool torso_seen =
+        torso_beams < c.torso_min_rings || int(torso_rings.size()) >= c.torso_min_rings;
+    ok[k] = torso_seen && head_clear;
+  }
+  return ok;
+}
+
+}  // namespace fieldlidar::people
