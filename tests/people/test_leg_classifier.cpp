@@ -31,6 +31,22 @@ std::vector<Eigen::Vector2d> line(double x, double half_width, int n) {
   return p;
 }
 
+/// Features of `pairs` leg-like arcs (label 1) and as many wall-like lines (label 0), drawn with
+/// generator seed `seed`.
+void arcs_and_lines(unsigned seed, int pairs, std::vector<SegmentFeatures>& x,
+                    std::vector<char>& y) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> range(1.0, 6.0), radius(0.04, 0.08), width(0.2, 1.0);
+  for (int i = 0; i < pairs; ++i) {
+    const auto a = arc(range(rng), radius(rng), 6 + i % 8);
+    x.push_back(segment_features(a, 0, a.size()));
+    y.push_back(1);
+    const auto l = line(range(rng), width(rng), 6 + i % 20);
+    x.push_back(segment_features(l, 0, l.size()));
+    y.push_back(0);
+  }
+}
+
 TEST(LegClassifier, FeaturesOfAnArcAndALine) {
   const auto a = arc(2.0, 0.06, 9);
   const auto f = segment_features(a, 0, a.size());
@@ -48,18 +64,9 @@ TEST(LegClassifier, FeaturesOfAnArcAndALine) {
 }
 
 TEST(LegClassifier, LearnsArcsFromWallsAndRoundTripsThroughYaml) {
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> range(1.0, 6.0), radius(0.04, 0.08), width(0.2, 1.0);
   std::vector<SegmentFeatures> x;
   std::vector<char> y;
-  for (int i = 0; i < 400; ++i) {
-    const auto a = arc(range(rng), radius(rng), 6 + i % 8);
-    x.push_back(segment_features(a, 0, a.size()));
-    y.push_back(1);
-    const auto l = line(range(rng), width(rng), 6 + i % 20);
-    x.push_back(segment_features(l, 0, l.size()));
-    y.push_back(0);
-  }
+  arcs_and_lines(3, 400, x, y);
   BoostOptions o;
   o.rounds = 20;
   const auto model = train_leg_classifier(x, y, o);
@@ -95,18 +102,9 @@ TEST(LegClassifier, LearnsArcsFromWallsAndRoundTripsThroughYaml) {
 
 // Features excluded from training are never split on, and an unknown name is an error.
 TEST(LegClassifier, ExcludedFeaturesAreNeverUsed) {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> range(1.0, 6.0), radius(0.04, 0.08), width(0.2, 1.0);
   std::vector<SegmentFeatures> x;
   std::vector<char> y;
-  for (int i = 0; i < 200; ++i) {
-    const auto a = arc(range(rng), radius(rng), 6 + i % 8);
-    x.push_back(segment_features(a, 0, a.size()));
-    y.push_back(1);
-    const auto l = line(range(rng), width(rng), 6 + i % 20);
-    x.push_back(segment_features(l, 0, l.size()));
-    y.push_back(0);
-  }
+  arcs_and_lines(5, 200, x, y);
   BoostOptions o;
   o.rounds = 30;
   const auto names = segment_feature_names();
