@@ -2,8 +2,6 @@
 // trees.csv, trees.geojson and a top-down picture of the stems as DBH circles over the points;
 // of a sequence: the pose of every scan tracked against a trunk map, and that map.
 
-#include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -141,9 +139,6 @@ void run_slice(const TrunksOptions& o, const PointCloud& cloud) {
   forest::StemSliceConfig sc;
   sc.max_radius_m = o.max_radius_m;
   const auto stems = forest::measure_slice_stems(cloud, sc);
-  double z_lo = INFINITY, z_hi = -INFINITY;
-  for (const auto& p : cloud.points)
-    if (p.is_valid()) z_lo = std::min(z_lo, double(p.z)), z_hi = std::max(z_hi, double(p.z));
   std::vector<forest::Tree> trees;
   for (const auto& s : stems) {
     forest::Tree t;
@@ -162,8 +157,8 @@ void run_slice(const TrunksOptions& o, const PointCloud& cloud) {
   fmt::print(
       "{}: a stem slice ({} points, {:.2f} m thick): {} stems, each a circle holding {} points "
       "within {:.3f} m over {:.0f} deg or more; branches and other points left out -> {}\n",
-      o.input, cloud.valid_count(), z_hi - z_lo, trees.size(), sc.min_points, sc.inlier_band_m,
-      sc.min_arc_deg, out.string());
+      o.input, cloud.valid_count(), forest::slice_thickness_m(cloud), trees.size(), sc.min_points,
+      sc.inlier_band_m, sc.min_arc_deg, out.string());
   for (std::size_t k = 0; k < trees.size(); ++k) {
     const Eigen::Vector3d c = trees[k].base_m + cloud.origin_m;
     fmt::print(

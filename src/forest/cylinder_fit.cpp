@@ -84,12 +84,14 @@ double solve(std::span<const Eigen::Vector3d> q, const std::vector<char>& keep, 
              bool fit_slope, double min_r, double max_r) {
   const Local start = m;
   cylinder_gauss_newton(q, keep, m, fit_slope, min_r, max_r, false);
-  if (!(cylinder_cost(q, keep, m) <= cylinder_cost(q, keep, start))) {
+  double cost = cylinder_cost(q, keep, m);
+  if (!(cost <= cylinder_cost(q, keep, start))) {
     m = start;
     cylinder_gauss_newton(q, keep, m, fit_slope, min_r, max_r, true);
+    cost = cylinder_cost(q, keep, m);
   }
   const double n = double(std::count(keep.begin(), keep.end(), char(1)));
-  return n > 0 ? std::sqrt(cylinder_cost(q, keep, m) / n) : 0.0;
+  return n > 0 ? std::sqrt(cost / n) : 0.0;
 }
 
 // Per-bin circle fits (config.start_bin_m of local height, at least min_points each): the

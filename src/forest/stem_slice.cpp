@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "fieldlidar/core/error.hpp"
@@ -38,12 +39,12 @@ std::vector<Eigen::Vector2d> slice_within_band(std::span<const Eigen::Vector2d> 
 }  // namespace
 
 Circle ransac_circle(std::span<const Eigen::Vector2d> points, const StemSliceConfig& config,
-                     std::size_t* inliers) {
+                     std::vector<Eigen::Vector2d>* inliers) {
   if (!(config.min_radius_m > 0) || !(config.max_radius_m > config.min_radius_m))
     throw Error("stem slice: radius bounds must satisfy 0 < min_radius_m < max_radius_m");
   if (!(config.inlier_band_m > 0)) throw Error("stem slice: inlier_band_m must be positive");
   if (config.iterations < 1) throw Error("stem slice: iterations must be at least 1");
-  if (inliers) *inliers = 0;
+  if (inliers) inliers->clear();
   Circle best;
   if (points.size() < std::max<std::size_t>(3, config.min_points)) return best;
   std::mt19937 rng(1);
@@ -68,20 +69,24 @@ Circle ransac_circle(std::span<const Eigen::Vector2d> points, const StemSliceCon
     if (!refined.ok) break;
     best = refined;
   }
-  const auto in = slice_within_band(points, best, config.inlier_band_m);
-  if (inliers) *inliers = in.size();
+  auto in = slice_within_band(points, best, config.inlier_band_m);
   double ss = 0;
   for (const auto& p : in) ss += std::pow((p - best.center).norm() - best.radius_m, 2);
   best.residual_m = in.empty() ? 0.0 : std::sqrt(ss / double(in.size()));
   best.ok = in.size() >= config.min_points;
+  if (inliers) *inliers = std::move(in);
   return best;
 }
 
-bool is_stem_slice(const PointCloud& cloud, const StemSliceConfig& config) {
+double slice_thickness_m(const PointCloud& cloud) {
   double lo = INFINITY, hi = -INFINITY;
   for (const auto& p : cloud.points)
     if (p.is_valid()) lo = std::min(lo, double(p.z)), hi = std::max(hi, double(p.z));
-  return hi >= lo && hi - lo <= config.max_thickness_m;
+  return hi >= lo ? hi - lo : NAN;
+}
+
+bool is_stem_slice(const PointCloud& cloud, const StemSliceConfig& config) {
+  return slice_thickness_m(cloud) <= config.max_thickness_m;  // false for NaN
 }
 
 namespace {
@@ -96,10 +101,10 @@ StemSlice slice_of(std::span<const Eigen::Vector2d> xy, std::span<const double> 
     s.z_min_m = *lo;
     s.z_max_m = *hi;
   }
-  s.circle = ransac_circle(xy, config, &s.inliers);
-  if (s.circle.ok)
-    s.arc_deg =
-        arc_coverage_deg(slice_within_band(xy, s.circle, config.inlier_band_m), s.circle.center);
+  std::vector<Eigen::Vector2d> in;
+  s.circle = ransac_circle(xy, config, &in);
+  s.inliers = in.size();
+  if (s.circle.ok) s.arc_deg = arc_coverage_deg(in, s.circle.center);
   return s;
 }
 

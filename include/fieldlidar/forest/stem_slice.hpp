@@ -39,6 +39,9 @@ struct StemSlice {
   double z_min_m = 0.0, z_max_m = 0.0;
 };
 
+/// The z extent of the finite points of `cloud` (m; NaN when it has none).
+double slice_thickness_m(const PointCloud& cloud);
+
 /// Whether `cloud` is a thin horizontal slab (finite points spanning at most max_thickness_m
 /// in z), as a stem slice is.
 bool is_stem_slice(const PointCloud& cloud, const StemSliceConfig& config = {});
@@ -53,8 +56,9 @@ StemSlice measure_stem_slice(const PointCloud& cloud, const StemSliceConfig& con
 std::vector<StemSlice> measure_slice_stems(const PointCloud& cloud,
                                            const StemSliceConfig& config = {});
 
-/// The RANSAC circle of 2D points (the step measure_stem_slice runs on the slice's x, y).
+/// The RANSAC circle of 2D points (the step measure_stem_slice runs on the slice's x, y);
+/// `inliers`, when given, receives the points within inlier_band_m of it.
 Circle ransac_circle(std::span<const Eigen::Vector2d> points, const StemSliceConfig& config,
-                     std::size_t* inliers = nullptr);
+                     std::vector<Eigen::Vector2d>* inliers = nullptr);
 
 }  // namespace fieldlidar::forest
