@@ -278,7 +278,7 @@ void add_navigate_command(CLI::App& app) {
   cmd->add_option("--approach", o->approach_m,
                   "The last metres (m) driven to the start, straight back along its heading, "
                   "whose sweeps are in the map before the first plan (cut where the robot could "
-                  "not have come from); 0: off")
+                  "not have come from); 0: off, a cold start with the blind disk unseen")
       ->capture_default_str()
       ->check(real_in(0, 30));
   cmd->add_option("--start-disk-tau", o->start_disk_tau,
