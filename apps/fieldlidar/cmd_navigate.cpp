@@ -22,6 +22,7 @@
 #include "fieldlidar/sim/scenes.hpp"
 #include "fieldlidar/terrain/robot_config.hpp"
 #include "support/navigate_output.hpp"
+#include "support/navigate_tally.hpp"
 #include "support/option_checks.hpp"
 #include "support/planar_paths.hpp"
 
@@ -156,6 +157,7 @@ void run(const NavigateOptions& o) {
       "pair,expect,outcome,driven_m,truth_plan_m,ratio,replans,frames_on_impassable,sim_s,wall_s,"
       "reason\n";
   std::vector<std::string> lines;
+  NavigateTally tally;
   int mismatches = 0;
   for (const auto& p : pairs) {
     const fs::path dir = many ? out / p.name : out;
@@ -185,6 +187,7 @@ void run(const NavigateOptions& o) {
                                    o.seed, p.name, loops::to_string(r.outcome), r.driven_length_m,
                                    r.replans, r.frames_on_impassable),
                        o.force);
+    tally.add(r);
     const bool mismatch = !p.expect.empty() && p.expect != loops::to_string(r.outcome);
     mismatches += mismatch;
     lines.push_back(row_text(p, r) + (mismatch ? "  (expected " + p.expect + ")" : ""));
@@ -197,6 +200,7 @@ void run(const NavigateOptions& o) {
   if (many) io::write_file_atomic(out / "pairs.csv", table_csv, o.force);
   fmt::print("{}\n", header);
   for (const auto& l : lines) fmt::print("{}\n", l);
+  if (many) fmt::print("{}\n", tally.text());
   fmt::print("wrote {}\n", out.string());
   if (mismatches)
     throw Error(

@@ -70,5 +70,29 @@ TEST(CliNavigate, OdometryPoseSource) {
   EXPECT_NE(bad.output.find("--pose-source"), std::string::npos) << bad.output;
 }
 
+// Two pairs, a short drive and a goal on a rock (on_a_rock of the seed-0 pairs): each in its own
+// folder, the table in pairs.csv and the whole in one line.
+TEST(CliNavigate, PairsAreTallied) {
+  const auto dir = temp_dir("cli_navigate_pairs");
+  const auto file = dir / "pairs.csv";
+  std::ofstream(file) << "# name, start, goal, expect\n"
+                      << "short, 3, 20, 0, 9, 20, 0, arrived\n"
+                      << "on_a_rock, 3, 20, 0, 16.5, 3, 0, unreachable\n";
+  const auto r = run_cli("navigate --seed 0 --pairs " + quoted(file) + " --out " +
+                         quoted(dir / "nav"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "nav" / "short" / "summary.json"));
+  EXPECT_TRUE(fs::exists(dir / "nav" / "on_a_rock" / "summary.json"));
+  EXPECT_NE(slurp(dir / "nav" / "pairs.csv").find("on_a_rock,unreachable,unreachable"),
+            std::string::npos);
+  EXPECT_NE(r.output.find("2 pairs: 1 of 1 goals the truth plan reaches arrived (1 within 1.15"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("0 drives with the footprint on truth-impassable cells (0 frames); 1 "
+                          "of 1 goals it cannot reach reported unreachable"),
+            std::string::npos)
+      << r.output;
+}
+
 }  // namespace
 }  // namespace fieldlidar::test
