@@ -43,6 +43,7 @@ struct NavigateOptions {
   double start_creep_m = loops::NavigateConfig{}.start_creep_m;
   double approach_m = loops::NavigateConfig{}.approach_m;
   double start_disk_tau = loops::NavigateConfig{}.start_disk_tau;
+  double blocked_goal_look_m = loops::NavigateConfig{}.blocked_goal_look_m;
   double lidar_pitch_deg = loops::NavigateConfig{}.lidar_pitch_deg;
   double start_look_rad = loops::NavigateConfig{}.start_look_rad;
   bool force = false;
@@ -121,6 +122,7 @@ void run(const NavigateOptions& o) {
   cfg.start_creep_m = o.start_creep_m;
   cfg.approach_m = o.approach_m;
   cfg.start_disk_tau = o.start_disk_tau;
+  cfg.blocked_goal_look_m = o.blocked_goal_look_m;
   cfg.lidar_pitch_deg = o.lidar_pitch_deg;
   cfg.start_look_rad = o.start_look_rad;
   cfg.sim_seed = o.noise_seed;
@@ -285,6 +287,12 @@ void add_navigate_command(CLI::App& app) {
                   "not have come from); 0: off, a cold start with the blind disk unseen")
       ->capture_default_str()
       ->check(real_in(0, 30));
+  cmd->add_option("--blocked-goal-look", o->blocked_goal_look_m,
+                  "A goal the map blocks while the robot is farther than this (m) is looked at "
+                  "from the free pose nearest it (within 4 m) before it is called unreachable; 0: "
+                  "off")
+      ->capture_default_str()
+      ->check(real_in(0, 1000));
   cmd->add_option("--start-disk-tau", o->start_disk_tau,
                   "Cells within the blind radius of the start no sweep has seen are planned at "
                   "this traversability (costlier than seen ground); 0: off, unknown")

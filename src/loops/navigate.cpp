@@ -75,6 +75,12 @@ NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
         "navigate: approach_m must be in [0, 100] (is {}), approach_sweep_m > 0 (is "
         "{}), escape_max_m in [0, 10] (is {}) and start_disk_tau in [0, 1] (is {})",
         config.approach_m, config.approach_sweep_m, config.escape_max_m, config.start_disk_tau));
+  if (!(config.blocked_goal_look_m >= 0.0) || !(config.blocked_goal_approach_m >= 0.0) ||
+      !std::isfinite(config.blocked_goal_look_m) || !(config.blocked_goal_approach_m <= 20.0))
+    throw Error(fmt::format(
+        "navigate: blocked_goal_look_m must be finite and >= 0 (is {}), blocked_goal_approach_m "
+        "in [0, 20] (is {})",
+        config.blocked_goal_look_m, config.blocked_goal_approach_m));
   detail::Loop loop(scene, sensor, config);
   return loop.run(start, goal);
 }

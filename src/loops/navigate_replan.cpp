@@ -126,6 +126,14 @@ void Loop::plan(const std::string& trigger) {
     planning::HybridAStar planner(grid, robot_, planner_cfg_);
     p = planner.plan(me(), target);
   }
+  if (p.status == PlanStatus::kGoalInCollision && cfg_.blocked_goal_look_m > 0 &&
+      std::hypot(goal_.x_m - me().x_m, goal_.y_m - me().y_m) > cfg_.blocked_goal_look_m) {
+    // Blocked as seen from afar: go and look from the free pose nearest the goal.
+    if (const auto look = nearest_free_pose(*check_map_, goal_, cfg_.blocked_goal_approach_m)) {
+      planning::HybridAStar planner(grid, robot_, planner_cfg_);
+      if (planning::PlanResult q = planner.plan(me(), *look); q.ok()) p = std::move(q);
+    }
+  }
   const double ms = ms_since(t0);
   plan_ms_ += ms;
   last_plan_t_ = t_;

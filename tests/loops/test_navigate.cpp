@@ -87,6 +87,14 @@ TEST(Navigate, BadInputIsAnError) {
   bad.start_disk_tau = 2.0;
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
                Error);
+  bad = {};
+  bad.blocked_goal_look_m = INFINITY;
+  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
+               Error);
+  bad = {};
+  bad.blocked_goal_approach_m = -1.0;
+  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
+               Error);
 }
 
 // A goal whose footprint a blocked cell (an obstacle's halo) touches is moved to the nearest free
@@ -163,9 +171,8 @@ TEST(Navigate, StartLookTurnsInPlaceBeforeTheFirstPlan) {
 // Seed 0 round_hill (44 s simulated, about 2 s each in Release): the passage east of the hill is
 // blocked for a while at 5 m; the detour hold keeps to the plan and passes once it clears (ratio
 // 1.029 measured); without it the robot turns back towards the 60 m detour round the hill's
-// west and north before the passage reopens (1.342). Without the approach's sweeps (approach_m
-// 0, the default, set here all the same): with a 2 m approach the block is not seen from afar and
-// both drives measure 1.059.
+// west and north before the passage reopens (1.342). A cold start (approach_m 0): with the
+// default 2 m approach the block is not seen from afar and both drives measure 1.059.
 TEST(Navigate, DetourHoldWaitsForABlockSeenFromAfar) {
   const sim::Scene scene = sim::make_terrain_scene({}, 0);
   const planning::Pose2 start{31, 32, 0}, goal{57, 32, 1.5708};
@@ -181,4 +188,26 @@ TEST(Navigate, DetourHoldWaitsForABlockSeenFromAfar) {
   EXPECT_EQ(held.frames_on_impassable, 0u);
   EXPECT_LE(held.length_ratio, 1.10);
   EXPECT_GT(swapped.length_ratio, 1.25);
+}
+
+// A goal 21 m away on flat ground (seed 8, a random pair of the kind of
+// navigate_pairs_terrain_seed2..5.csv) whose cells the map blocks as seen from the start, on a
+// few returns: the robot drives to the free pose nearest it, looks again from there and arrives
+// (ratio 1.020 measured); without that look (blocked_goal_look_m 0) it gives up after 3.3 m,
+// "goal_in_collision on two successive map updates".
+TEST(Navigate, GoalBlockedFromAfarIsLookedAtFromNear) {
+  const sim::Scene scene = sim::make_terrain_scene({}, 8);
+  const planning::Pose2 start{32.5, 18.3, 1.479}, goal{10.9, 19.6, 0.786};
+  loops::NavigateConfig cfg;
+  const auto looked = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
+  cfg.blocked_goal_look_m = 0.0;
+  const auto gave_up = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
+  std::printf("looked: %s, ratio %.3f; without the look: %s after %.1f m (%s)\n",
+              loops::to_string(looked.outcome), looked.length_ratio,
+              loops::to_string(gave_up.outcome), gave_up.driven_length_m, gave_up.reason.c_str());
+  EXPECT_EQ(looked.outcome, loops::NavigateOutcome::kArrived) << looked.reason;
+  EXPECT_EQ(looked.frames_on_impassable, 0u);
+  EXPECT_LE(looked.length_ratio, 1.10);
+  EXPECT_EQ(gave_up.outcome, loops::NavigateOutcome::kUnreachable) << gave_up.reason;
+  EXPECT_LT(gave_up.driven_length_m, 10.0);
 }

@@ -55,7 +55,8 @@ constexpr Gap kColdGapsSeed0[] = {{"round_terrace", 1.15, 2}, {"ne_to_hill", 1.1
 /// - diagonal: the goal sits in a pocket 0.3-0.6 m from two bushes and a rock; the map's step
 ///   rule blocks the goal's cells (mean ground of the window's cells 0.26 m apart, 1-14 returns
 ///   each: the bushes' lower returns kept as ground) and the obstacle halo closes the rest (no
-///   free pose within 0.2 m of the goal): reported unreachable.
+///   free pose within 0.2 m of the goal): reported unreachable once looked at from near (no path
+///   on two successive map updates).
 constexpr Gap kKnownGapsSeed1[] = {{"round_terrace", 1.10, 42},
                                    {"round_hill", 1.18, 0},
                                    {"south_east", 1.17, 0},
