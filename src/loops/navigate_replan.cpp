@@ -85,11 +85,17 @@ void Loop::plan(const std::string& trigger) {
     cost_shadows(grid, {r_.start.x_m, r_.start.y_m}, 0.0, blind_radius_m_,
                  float(cfg_.start_disk_tau));
   // A goal whose footprint the map blocks (an obstacle's halo) is moved to the nearest free pose
-  // within the goal tolerance less 0.1 m for the follower's error, where arriving still counts.
+  // within the goal tolerance less 0.1 m for the follower's error, where arriving still counts;
+  // seen blocked from farther than blocked_goal_look_m, to the nearest within
+  // blocked_goal_approach_m, where the robot goes to look again.
+  const double reach_m =
+      cfg_.blocked_goal_look_m > 0 &&
+              std::hypot(goal_.x_m - me().x_m, goal_.y_m - me().y_m) > cfg_.blocked_goal_look_m
+          ? std::max(cfg_.blocked_goal_approach_m, cfg_.goal_tolerance_m - 0.1)
+          : cfg_.goal_tolerance_m - 0.1;
   Pose2 target = goal_;
   if (!check_map_->pose_free(goal_))
-    if (const auto free = nearest_free_pose(*check_map_, goal_, cfg_.goal_tolerance_m - 0.1))
-      target = *free;
+    if (const auto free = nearest_free_pose(*check_map_, goal_, reach_m)) target = *free;
   planning::PlanResult p;
   {
     planning::HybridAStar planner(grid, robot_, planner_cfg_);
@@ -125,14 +131,6 @@ void Loop::plan(const std::string& trigger) {
     clear_under_robot(grid, me(), robot_, 0.3);
     planning::HybridAStar planner(grid, robot_, planner_cfg_);
     p = planner.plan(me(), target);
-  }
-  if (p.status == PlanStatus::kGoalInCollision && cfg_.blocked_goal_look_m > 0 &&
-      std::hypot(goal_.x_m - me().x_m, goal_.y_m - me().y_m) > cfg_.blocked_goal_look_m) {
-    // Blocked as seen from afar: go and look from the free pose nearest the goal.
-    if (const auto look = nearest_free_pose(*check_map_, goal_, cfg_.blocked_goal_approach_m)) {
-      planning::HybridAStar planner(grid, robot_, planner_cfg_);
-      if (planning::PlanResult q = planner.plan(me(), *look); q.ok()) p = std::move(q);
-    }
   }
   const double ms = ms_since(t0);
   plan_ms_ += ms;
