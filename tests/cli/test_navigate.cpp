@@ -78,8 +78,8 @@ TEST(CliNavigate, PairsAreTallied) {
   std::ofstream(file) << "# name, start, goal, expect\n"
                       << "short, 3, 20, 0, 9, 20, 0, arrived\n"
                       << "on_a_rock, 3, 20, 0, 16.5, 3, 0, unreachable\n";
-  const auto r = run_cli("navigate --seed 0 --pairs " + quoted(file) + " --out " +
-                         quoted(dir / "nav"));
+  const auto r =
+      run_cli("navigate --seed 0 --pairs " + quoted(file) + " --out " + quoted(dir / "nav"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(dir / "nav" / "short" / "summary.json"));
   EXPECT_TRUE(fs::exists(dir / "nav" / "on_a_rock" / "summary.json"));

@@ -63,38 +63,25 @@ TEST(Navigate, BadInputIsAnError) {
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {NAN, 20, 0}, {8, 20, 0}),
                Error);
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {80, 20, 0}), Error);
-  loops::NavigateConfig bad;
-  bad.fusion.layers.robot.min_turn_radius_m = 0.0;
-  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
-               Error);
-  bad = {};
-  bad.lidar_pitch_deg = 40.0;
-  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
-               Error);
-  bad = {};
-  bad.start_look_rad = NAN;
-  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
-               Error);
-  bad = {};
-  bad.approach_m = -1.0;
-  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
-               Error);
-  bad = {};
-  bad.escape_max_m = NAN;
-  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
-               Error);
-  bad = {};
-  bad.start_disk_tau = 2.0;
-  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
-               Error);
-  bad = {};
-  bad.blocked_goal_look_m = INFINITY;
-  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
-               Error);
-  bad = {};
-  bad.blocked_goal_approach_m = -1.0;
-  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
-               Error);
+  // Each setting alone, on the defaults otherwise.
+  const auto rejected = [](const char* what, auto set) {
+    loops::NavigateConfig bad;
+    set(bad);
+    EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {8, 20, 0}, bad),
+                 Error)
+        << what;
+  };
+  rejected("fusion.layers.robot.min_turn_radius_m",
+           [](loops::NavigateConfig& c) { c.fusion.layers.robot.min_turn_radius_m = 0.0; });
+  rejected("lidar_pitch_deg", [](loops::NavigateConfig& c) { c.lidar_pitch_deg = 40.0; });
+  rejected("start_look_rad", [](loops::NavigateConfig& c) { c.start_look_rad = NAN; });
+  rejected("approach_m", [](loops::NavigateConfig& c) { c.approach_m = -1.0; });
+  rejected("escape_max_m", [](loops::NavigateConfig& c) { c.escape_max_m = NAN; });
+  rejected("start_disk_tau", [](loops::NavigateConfig& c) { c.start_disk_tau = 2.0; });
+  rejected("blocked_goal_look_m",
+           [](loops::NavigateConfig& c) { c.blocked_goal_look_m = INFINITY; });
+  rejected("blocked_goal_approach_m",
+           [](loops::NavigateConfig& c) { c.blocked_goal_approach_m = -1.0; });
 }
 
 // A goal whose footprint a blocked cell (an obstacle's halo) touches is moved to the nearest free

@@ -102,7 +102,9 @@ void drive_pairs(const char* file, std::uint64_t seed, std::span<const Gap> gaps
 
 }  // namespace
 
-TEST(NavigatePairs, AllPairsSeed0) { drive_pairs(FIELDLIDAR_NAVIGATE_PAIRS, 0, {}); }
+TEST(NavigatePairs, AllPairsSeed0) {
+  drive_pairs(FIELDLIDAR_NAVIGATE_PAIRS, 0, {});
+}
 
 // A robot switched on where it stands (no approach): the seed-0 pairs with the rocks in the blind
 // disk of their starts.

@@ -24,14 +24,6 @@
 
 using namespace fieldlidar;
 
-namespace {
-
-bool ends_with(const std::string& s, const std::string& tail) {
-  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
-}  // namespace
-
 TEST(NavigatePairs, RandomPairsSeeds2To5) {
   loops::NavigateConfig cfg;
   // The expansion budget, not the load on the test machine, ends a walled-in search.
@@ -41,9 +33,8 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
   double ratio_sum = 0, ratio_max = 0;
   for (std::uint64_t seed = 2; seed <= 5; ++seed) {
     const sim::Scene scene = sim::make_terrain_scene({}, seed);
-    const std::string file =
-        std::string(FIELDLIDAR_NAVIGATE_DATA) + "/navigate_pairs_terrain_seed" +
-        std::to_string(seed) + ".csv";
+    const std::string file = std::string(FIELDLIDAR_NAVIGATE_DATA) +
+                             "/navigate_pairs_terrain_seed" + std::to_string(seed) + ".csv";
     const auto pairs = loops::test::read_pairs(file);
     ASSERT_EQ(pairs.size(), 12u) << file;
     for (const auto& p : pairs) {
@@ -66,12 +57,12 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
         }
       } else {
         EXPECT_NE(r.truth_status, planning::PlanStatus::kSuccess) << p.name;
-        if (ends_with(p.name, "_to_terrace")) {
+        if (p.name.ends_with("_to_terrace")) {
           ++to_terrace;
           said_unreachable += r.outcome == loops::NavigateOutcome::kUnreachable;
           to_terrace_frames += r.frames_on_impassable;
         } else {
-          EXPECT_TRUE(ends_with(p.name, "_on_terrace")) << p.name;
+          EXPECT_TRUE(p.name.ends_with("_on_terrace")) << p.name;
           EXPECT_LE(r.frames_on_impassable, 70u) << "seed " << seed << " " << p.name;
         }
       }
