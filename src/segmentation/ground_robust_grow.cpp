@@ -30,6 +30,7 @@ std::vector<CellFit> grow_ground_cells(const PolarGrid& grid, const PolarCells& 
     bool anchored = false;
     double ref_z = 0.0, ref_r = 0.0, ref_grad = 0.0;
     bool ref_line = false;
+    bool seen_nearer = false;
     std::size_t ref_cell = 0;
     // Lowest return of the sector farther out than bin b (m): ground seen from the sensor has
     // nothing much lower beyond it in the same direction, unless behind a crest, while a canopy
@@ -63,7 +64,16 @@ std::vector<CellFit> grow_ground_cells(const PolarGrid& grid, const PolarCells& 
       } else {
         predicted = prior.height_at(r_mid * ca, r_mid * sa);
         tolerance = config.max_step_m + tan_slope * std::max(0.0, r_mid - config.near_range_m);
+        // The sector's first cell, above the plane: ground curving up away from the robot (a
+        // hill's foot) rises off the near plane as the square of the range, and no nearer cell
+        // shows the rise (the blind disk of a sparse sensor); a raised object has lower ground
+        // beyond it, a terrace's step rises more than the cap.
+        if (sparse_rings && !seen_nearer && fit.elevation > predicted &&
+            lowest_beyond(b) >= fit.elevation - float(config.max_step_m))
+          tolerance += std::min(config.first_cell_max_rise_m,
+                                0.5 * config.first_cell_curvature_per_m * r_mid * r_mid);
       }
+      seen_nearer = true;
       fit.predicted = float(predicted);
       bool continuous = std::abs(fit.elevation - predicted) <= tolerance;
       // Sparse rings far out: a cell holds one scan line, whose plane's tilt is unknown, and a

@@ -38,14 +38,25 @@ std::vector<std::uint8_t> drop_overhang_ground(std::span<const Eigen::Vector3d> 
     z = std::min(z, float(pts[i].z()));
   }
   // A cell whose fused ground stands more than the clearance above this scan's ground in it held
-  // an overhang seen before any ground near it: its ground statistics start again.
+  // an overhang seen before any ground near it: its ground statistics start again. A cell of one
+  // or two such returns too (a branch seen from afar, before the ground under it: kept, its return
+  // lifted the cell's step to 0.4 m for good).
   const CellBlock cells(store, origin, pw, ph);
   for (int y = 1; y <= h; ++y)
     for (int x = 1; x <= w; ++x) {
       const float z = lowest[std::size_t(y) * pw + x];
       FusedCell* cell = std::isfinite(z) ? cells.find(origin.x() + x, origin.y() + y) : nullptr;
-      if (!cell || cell->ground.n < config.min_ground_points) continue;
-      if (cell->mean.z() + cell->z_ref <= z + rise) continue;
+      if (!cell || cell->ground.n <= 0) continue;
+      // Its highest ground return while it holds too few to be known (the mean plus sqrt(n - 1)
+      // standard deviations: no return lies higher, and of one or two it is the highest), else
+      // its mean ground.
+      const double n = cell->ground.n;
+      const double top =
+          n < config.min_ground_points
+              ? cell->ground.mean().z() +
+                    std::sqrt((n - 1.0) * std::max(0.0, cell->ground.covariance()(2, 2)))
+              : cell->mean.z();
+      if (top + cell->z_ref <= z + rise) continue;
       cell->ground = PlaneSums{};
       cell->z_ref = std::numeric_limits<float>::quiet_NaN();
       cell->ground_top.fill(-std::numeric_limits<float>::infinity());
