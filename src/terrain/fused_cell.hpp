@@ -80,6 +80,12 @@ struct FusedCell {
   bool bump = false;            ///< last derived as a bump obstacle (a low rock kept as ground)
   /// Deepest sunk beam seen over the cell in a trench shadow (m below the near ground; 0: none).
   float trench_depth_m = 0.0f;
+  /// The highest ground return (z - z_ref): an overhang taken for ground (a branch seen before
+  /// the ground under it) stands far above the ground a later scan sees there.
+  float ground_max = -std::numeric_limits<float>::infinity();
+  /// The lowest ground return (z - z_ref): the ground an overhang is judged against, which an
+  /// overhang taken for ground in the same cell does not lift as it lifts the mean.
+  float ground_min = std::numeric_limits<float>::infinity();
   /// The two highest ground returns (z - z_ref): the second is the cell's ground top, one stray
   /// return being no rock.
   std::array<float, 2> ground_top = {-std::numeric_limits<float>::infinity(),

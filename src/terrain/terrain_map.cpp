@@ -166,6 +166,8 @@ FusionUpdate TerrainMap::add_points(std::span<const Eigen::Vector3d> pts,
     FusedCell& cell = *s.cell;
     if (std::isnan(cell.z_ref)) cell.z_ref = float(p.z());
     cell.ground.add({p.x() - (ix + 0.5) * cm, p.y() - (iy + 0.5) * cm, p.z() - cell.z_ref});
+    cell.ground_max = std::max(cell.ground_max, float(p.z() - cell.z_ref));
+    cell.ground_min = std::min(cell.ground_min, float(p.z() - cell.z_ref));
     FusedCell::add_top(s.ground_top, float(p.z() - cell.z_ref));
   }
   // Obstacle returns: between min_obstacle_height and clearance above the cell's ground (its

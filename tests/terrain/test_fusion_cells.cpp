@@ -257,6 +257,17 @@ TEST(TerrainFusionCells, OverhangTakenForGroundLeavesTheTrackPassable) {
   EXPECT_EQ(*two.global_map().value_at(layer::kImpassable, under), 0.0f);
   EXPECT_EQ(*two.global_map().value_at(layer::kImpassable, beside), 0.0f);
   EXPECT_NEAR(*two.global_map().value_at(layer::kElevation, under), 0.02 * 5.25, 0.01);
+  // The branch alone first, then the ground beside it only (the ground under it stays hidden):
+  // the branch is no ground of its cells, which stay unknown, and the cells beside them are
+  // passable (seed 17: a branch seen from 23-25 m blocked the goal's cells with steps of 1 m).
+  TerrainMap four;
+  four.add_points(branch, g_branch, {-20, 0, 1.2});
+  four.add_points(ground_pts, g_ground, {5, 0, 1.2});
+  EXPECT_FALSE(four.global_map().value_at(layer::kElevation, under).has_value() &&
+               std::isfinite(*four.global_map().value_at(layer::kElevation, under)));
+  EXPECT_FALSE(*four.global_map().value_at(layer::kImpassable, under) > 0.5f);
+  EXPECT_EQ(*four.global_map().value_at(layer::kImpassable, {4.25, 5.25}), 0.0f);
+  EXPECT_LT(*four.global_map().value_at(layer::kStep, {4.25, 5.25}), 0.05f);
   // The branch's tip seen from farther still: one or two returns per cell, fewer than a cell
   // needs to be known (terrain seed 13: one such return stayed in a cell's ground and its step
   // read 0.41 m, blocking the 3 x 3 cells round it for good).
