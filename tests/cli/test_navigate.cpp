@@ -30,8 +30,15 @@ TEST(CliNavigate, ShortDriveWritesItsFilesAndKeepsThem) {
   const auto r = run_cli(args);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* n : {"plans.csv", "plans.geojson", "path.csv", "navigate_log.csv",
-                        "summary.json", "navigate.png"})
+                        "summary.json", "navigate.png", "built_map.yaml", "built_map.pgm"})
     EXPECT_TRUE(fs::exists(out / n)) << n;
+  // The map the robot built, planned on again by `fieldlidar plan`: the drive it made is clear.
+  const auto replan = run_cli("plan --map " + quoted(out) + " --start 3,20,0 --goal 9,20,0 --out " +
+                              quoted(dir / "replan"));
+  ASSERT_EQ(replan.exit_code, 0) << replan.output;
+  const auto p = nlohmann::json::parse(slurp(dir / "replan" / "summary.json"));
+  EXPECT_EQ(p["status"], "success");
+  EXPECT_NEAR(p["length_m"].get<double>(), 6.0, 0.5);
   const auto j = nlohmann::json::parse(slurp(out / "summary.json"));
   EXPECT_EQ(j["outcome"], "arrived");
   EXPECT_EQ(j["frames_on_impassable"], 0);

@@ -5,6 +5,7 @@
 #include <fmt/core.h>
 
 #include "fieldlidar/io/file_util.hpp"
+#include "fieldlidar/io/nav2_map.hpp"
 #include "support/canvas.hpp"
 #include "support/planar_paths.hpp"
 
@@ -136,11 +137,28 @@ void draw(const loops::NavigateResult& r, const std::string& title, const fs::pa
   canvas.save_png(png, force);
 }
 
+/// The map the robot built (the planner's input at the end) as a nav2 map_server map in the
+/// scene's frame, the cost kept ("scale": pixel = 254 x tau, impassable black, unknown grey):
+/// `fieldlidar plan --map DIR` plans on it again.
+void write_built_map(const loops::NavigateResult& r, const fs::path& dir, bool force) {
+  Grid2D map(r.built_map.geometry());
+  const auto tau = r.built_map.layer(L::kTraversability);
+  const auto imp = r.built_map.layer(L::kImpassable);
+  auto out = map.add_layer("tau", NAN);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = imp[i] > 0.5f ? 0.f : tau[i];
+  io::Nav2MapConfig nav;
+  nav.mode = "scale";
+  const io::Nav2Map nav2 = io::encode_nav2_map(map, "tau", "built_map.pgm", nav);
+  io::write_file_atomic(dir / "built_map.pgm", nav2.pgm, force);
+  io::write_file_atomic(dir / "built_map.yaml", nav2.yaml, force);
+}
+
 }  // namespace
 
 std::vector<fs::path> navigate_files(const fs::path& dir) {
   return {dir / "plans.csv",        dir / "plans.geojson", dir / "path.csv",
-          dir / "navigate_log.csv", dir / "summary.json",  dir / "navigate.png"};
+          dir / "navigate_log.csv", dir / "summary.json",  dir / "navigate.png",
+          dir / "built_map.yaml",   dir / "built_map.pgm"};
 }
 
 nlohmann::json navigate_summary(const loops::NavigateResult& r) {
@@ -188,6 +206,7 @@ void write_navigate_run(const fs::path& dir, const loops::NavigateResult& r,
   io::write_file_atomic(dir / "navigate_log.csv", loops::navigate_log_csv(r.rows), force);
   io::write_file_atomic(dir / "summary.json", j.dump(1) + "\n", force);
   draw(r, title, dir / "navigate.png", force);
+  write_built_map(r, dir, force);
 }
 
 }  // namespace fieldlidar::app

@@ -1,5 +1,6 @@
 #pragma once
-// The files of one navigate run: plans (CSV, GeoJSON), the log, the summary and the picture.
+// The files of one navigate run: plans (CSV, GeoJSON), the log, the summary, the picture and the
+// map the robot built (nav2 map_server YAML + PGM).
 
 #include <filesystem>
 #include <string>
