@@ -28,20 +28,34 @@
 
 using namespace fieldlidar;
 
-TEST(NavigatePairs, RandomPairsSeeds2To5) {
-  loops::NavigateConfig cfg;
-  // The expansion budget, not the load on the test machine, ends a walled-in search.
-  cfg.planner.time_budget_ms = 4000.0;
+namespace {
+
+/// The whole of a run of random pairs.
+struct Tally {
   int reachable = 0, arrived = 0, over = 0, to_terrace = 0, said_unreachable = 0;
   int reachable_drives_with_frames = 0;
   std::size_t reachable_frames = 0, to_terrace_frames = 0;
   double ratio_sum = 0, ratio_max = 0;
-  for (std::uint64_t seed = 2; seed <= 5; ++seed) {
+  double mean() const { return arrived ? ratio_sum / arrived : 0.0; }
+};
+
+/// Drives every pair of navigate_pairs_terrain_seed<first..last>.csv with the defaults; a
+/// reachable pair may put the footprint on truth-impassable cells for at most
+/// max_frames(seed, name) frames, a start on the terrace (driving off its step) for at most
+/// max_on_terrace_frames.
+template <class MaxFrames>
+Tally drive_random_pairs(std::uint64_t first, std::uint64_t last, MaxFrames max_frames,
+                         std::size_t max_on_terrace_frames) {
+  loops::NavigateConfig cfg;
+  // The expansion budget, not the load on the test machine, ends a walled-in search.
+  cfg.planner.time_budget_ms = 4000.0;
+  Tally t;
+  for (std::uint64_t seed = first; seed <= last; ++seed) {
     const sim::Scene scene = sim::make_terrain_scene({}, seed);
     const std::string file = std::string(FIELDLIDAR_NAVIGATE_DATA) +
                              "/navigate_pairs_terrain_seed" + std::to_string(seed) + ".csv";
     const auto pairs = loops::test::read_pairs(file);
-    ASSERT_EQ(pairs.size(), 12u) << file;
+    EXPECT_EQ(pairs.size(), 12u) << file;
     for (const auto& p : pairs) {
       const auto r = loops::run_navigate(scene, SensorModel::vlp16(), p.start, p.goal, cfg);
       std::printf("seed %llu %-16s %-11s ratio %6.3f, %4zu frames on impassable  %s\n",
@@ -50,45 +64,84 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
                   r.reason.c_str());
       std::fflush(stdout);
       if (p.expect == "arrived") {
-        ++reachable;
+        ++t.reachable;
         EXPECT_EQ(r.truth_status, planning::PlanStatus::kSuccess) << p.name;
-        arrived += r.outcome == loops::NavigateOutcome::kArrived;
-        reachable_frames += r.frames_on_impassable;
-        reachable_drives_with_frames += r.frames_on_impassable > 0;
-        EXPECT_LE(r.frames_on_impassable, seed == 2 && p.name == "p9" ? 10u : 0u)
+        t.arrived += r.outcome == loops::NavigateOutcome::kArrived;
+        t.reachable_frames += r.frames_on_impassable;
+        t.reachable_drives_with_frames += r.frames_on_impassable > 0;
+        EXPECT_LE(r.frames_on_impassable, max_frames(seed, p.name))
             << "seed " << seed << " " << p.name;
         if (r.outcome == loops::NavigateOutcome::kArrived) {
-          ratio_sum += r.length_ratio;
-          ratio_max = std::max(ratio_max, r.length_ratio);
-          over += r.length_ratio > 1.15;
+          t.ratio_sum += r.length_ratio;
+          t.ratio_max = std::max(t.ratio_max, r.length_ratio);
+          t.over += r.length_ratio > 1.15;
         }
       } else {
         EXPECT_NE(r.truth_status, planning::PlanStatus::kSuccess) << p.name;
         if (p.name.ends_with("_to_terrace")) {
-          ++to_terrace;
-          said_unreachable += r.outcome == loops::NavigateOutcome::kUnreachable;
-          to_terrace_frames += r.frames_on_impassable;
+          ++t.to_terrace;
+          t.said_unreachable += r.outcome == loops::NavigateOutcome::kUnreachable;
+          t.to_terrace_frames += r.frames_on_impassable;
         } else {
           EXPECT_TRUE(p.name.ends_with("_on_terrace")) << p.name;
-          EXPECT_LE(r.frames_on_impassable, 70u) << "seed " << seed << " " << p.name;
+          EXPECT_LE(r.frames_on_impassable, max_on_terrace_frames)
+              << "seed " << seed << " " << p.name;
         }
       }
     }
   }
-  const double mean = arrived ? ratio_sum / arrived : 0.0;
   std::printf(
-      "reachable %d: arrived %d, frames on truth-impassable %zu, over 1.15: %d, mean ratio "
-      "%.3f, largest %.3f; goals on the terrace %d: unreachable %d, frames %zu\n",
-      reachable, arrived, reachable_frames, over, mean, ratio_max, to_terrace, said_unreachable,
-      to_terrace_frames);
-  EXPECT_EQ(reachable, 36);
-  EXPECT_EQ(arrived, reachable);
-  EXPECT_LE(reachable_frames, 10u);
-  EXPECT_LE(reachable_drives_with_frames, 1);  // seed 2 p9, above
-  EXPECT_LE(over, 6);
-  EXPECT_LE(mean, 1.08);
-  EXPECT_LE(ratio_max, 1.40);
-  EXPECT_EQ(to_terrace, 6);
-  EXPECT_EQ(said_unreachable, to_terrace);
-  EXPECT_LE(to_terrace_frames, 10u);
+      "reachable %d: arrived %d, drives on truth-impassable cells %d (%zu frames), over 1.15: "
+      "%d, mean ratio %.3f, largest %.3f; goals on the terrace %d: unreachable %d, frames %zu\n",
+      t.reachable, t.arrived, t.reachable_drives_with_frames, t.reachable_frames, t.over, t.mean(),
+      t.ratio_max, t.to_terrace, t.said_unreachable, t.to_terrace_frames);
+  return t;
+}
+
+}  // namespace
+
+TEST(NavigatePairs, RandomPairsSeeds2To5) {
+  const Tally t = drive_random_pairs(
+      2, 5,
+      [](std::uint64_t seed, const std::string& name) {
+        return seed == 2 && name == "p9" ? 10u : 0u;  // see above
+      },
+      70);
+  EXPECT_EQ(t.reachable, 36);
+  EXPECT_EQ(t.arrived, t.reachable);
+  EXPECT_LE(t.reachable_frames, 10u);
+  EXPECT_LE(t.reachable_drives_with_frames, 1);
+  EXPECT_LE(t.over, 6);
+  EXPECT_LE(t.mean(), 1.08);
+  EXPECT_LE(t.ratio_max, 1.40);
+  EXPECT_EQ(t.to_terrace, 6);
+  EXPECT_EQ(t.said_unreachable, t.to_terrace);
+  EXPECT_LE(t.to_terrace_frames, 10u);
+}
+
+// 192 more random pairs, seeds 6-21 (navigate_pairs_terrain_seed6..21.csv; about four minutes in
+// Release), the map's failures on which were looked at for the ground and overhang changes of
+// issue 17 (seeds 18-21 drawn after the first two were chosen): a fence round what the loop does
+// on them, with what it still gets wrong.
+// - 148 pairs the truth plan reaches: 141 arrive, 10 over 1.15 x the truth plan (mean 1.050,
+//   largest 1.980). Reported unreachable: 5 goals on hill flanks
+//   whose cells the map still finds too steep, raised or without ground (seeds 8, 9, 13, 14, 16),
+//   one start beside the hill with no path (seed 7 p6), one goal after a 65 m search (seed 9 p11).
+//   11 drives put the footprint on truth-impassable cells: starts 1-2 m from a rock or the
+//   ditch's end, in the blind disk of the start and of the approach (seed 21 p9 drives along
+//   the ditch it starts beside: 95 frames), and gaps between rocks the map leaves open and the
+//   truth's discs close; 374 frames in all.
+// - the 26 goals on the terrace: reported unreachable (8 frames in all); the 18 starts there
+//   drive off its step (up to 119 frames).
+TEST(NavigatePairs, RandomPairsSeeds6To21) {
+  const Tally t = drive_random_pairs(
+      6, 21, [](std::uint64_t, const std::string&) { return 100u; }, 150);
+  EXPECT_EQ(t.reachable, 148);
+  EXPECT_GE(t.arrived, 141);
+  EXPECT_LE(t.reachable_drives_with_frames, 11);
+  EXPECT_LE(t.reachable_frames, 400u);
+  EXPECT_LE(t.over, 10);
+  EXPECT_LE(t.mean(), 1.06);
+  EXPECT_LE(t.ratio_max, 2.05);
+  EXPECT_EQ(t.said_unreachable, t.to_terrace);
 }
