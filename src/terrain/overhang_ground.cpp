@@ -61,29 +61,8 @@ std::vector<std::uint8_t> drop_overhang_ground(std::span<const Eigen::Vector3d> 
       if (cell && cell->ground.n > 0 && double(cell->ground_max) + cell->z_ref > z + rise)
         start_again(*cell);
     }
-  // A cell whose lowest fused ground return stands more than the clearance above the ground of a
-  // cell next to it (this scan's, or the map's lowest) holds nothing but an overhang, the ground
-  // under it unseen since (seed 17: a branch seen from 23-25 m, 2.6 m above the ground the
-  // robot saw beside it later, blocked the goal's cells): it starts again.
-  std::vector<FusedCell*> lifted;
-  for (int y = 1; y <= h; ++y)
-    for (int x = 1; x <= w; ++x) {
-      FusedCell* cell = cells.find(origin.x() + x, origin.y() + y);
-      if (!cell || cell->ground.n <= 0) continue;
-      double beside = kInf;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          if (dx == 0 && dy == 0) continue;
-          beside = std::min(beside, double(lowest[std::size_t(y + dy) * pw + x + dx]));
-          const FusedCell* q = cells.find(origin.x() + x + dx, origin.y() + y + dy);
-          if (q && q->ground.n >= config.min_ground_points)
-            beside = std::min(beside, double(q->ground_min) + double(q->z_ref));
-        }
-      if (double(cell->ground_min) + cell->z_ref > beside + rise) lifted.push_back(cell);
-    }
-  for (FusedCell* cell : lifted) start_again(*cell);
   // The lowest ground of each cell, this scan's or the map's, then of the 3 x 3 cells around it
-  // (each worked out when a return first asks for it: most cells of the window hold none).
+  // (each worked out when first asked for: most cells of the window hold none).
   constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> low(std::size_t(pw) * ph, kUnset), low3(std::size_t(pw) * ph, kUnset);
   const auto low_of = [&](int x, int y) {
@@ -96,6 +75,23 @@ std::vector<std::uint8_t> drop_overhang_ground(std::span<const Eigen::Vector3d> 
     }
     return v;
   };
+  // A cell whose lowest fused ground return stands more than the clearance above the ground of a
+  // cell next to it (this scan's, or the map's lowest) holds nothing but an overhang, the ground
+  // under it unseen since (seed 17: a branch seen from 23-25 m, 2.6 m above the ground the
+  // robot saw beside it later, blocked the goal's cells): it starts again.
+  std::vector<FusedCell*> lifted;
+  for (int y = 1; y <= h; ++y)
+    for (int x = 1; x <= w; ++x) {
+      FusedCell* cell = cells.find(origin.x() + x, origin.y() + y);
+      if (!cell || cell->ground.n <= 0) continue;
+      double beside = kInf;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (dx != 0 || dy != 0) beside = std::min(beside, low_of(x + dx, y + dy));
+      if (double(cell->ground_min) + cell->z_ref > beside + rise) lifted.push_back(cell);
+    }
+  for (FusedCell* cell : lifted) start_again(*cell);
+  if (!lifted.empty()) std::fill(low.begin(), low.end(), kUnset);  // their lows have changed
   for (std::size_t i = 0; i < pts.size(); ++i) {
     if (!out[i] || !pts[i].allFinite()) continue;
     const int x = cells_of[i].x() - origin.x(), y = cells_of[i].y() - origin.y();
