@@ -6,9 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,6 +17,7 @@
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/loops/navigate.hpp"
+#include "fieldlidar/loops/navigate_pairs.hpp"
 #include "fieldlidar/sim/scenes.hpp"
 #include "fieldlidar/terrain/robot_config.hpp"
 #include "support/navigate_output.hpp"
@@ -49,44 +48,8 @@ struct NavigateOptions {
   bool force = false;
 };
 
-struct Pair {
-  std::string name;
-  planning::Pose2 start, goal;
-  std::string expect;  ///< "arrived", "unreachable" or "" (not said)
-};
-
-/// Lines "name, sx, sy, syaw, gx, gy, gyaw[, expect]" ('#' starts a comment).
-std::vector<Pair> read_pairs(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw Error("--pairs " + file + ": cannot read");
-  std::vector<Pair> out;
-  std::string text;
-  for (int n = 1; std::getline(in, text); ++n) {
-    if (const auto h = text.find('#'); h != std::string::npos) text.resize(h);
-    std::vector<std::string> f;
-    std::stringstream ss(text);
-    for (std::string cell; std::getline(ss, cell, ',');) {
-      const auto a = cell.find_first_not_of(" \t\r"), b = cell.find_last_not_of(" \t\r");
-      f.push_back(a == std::string::npos ? "" : cell.substr(a, b - a + 1));
-    }
-    if (f.empty() || (f.size() == 1 && f[0].empty())) continue;
-    const std::string where = fmt::format("--pairs {} line {}", file, n);
-    if (f.size() != 7 && f.size() != 8)
-      throw Error(where + ": expected name,sx,sy,syaw,gx,gy,gyaw[,expect]");
-    Pair p{f[0], parse_pose(f[1] + "," + f[2] + "," + f[3], where + " start"),
-           parse_pose(f[4] + "," + f[5] + "," + f[6], where + " goal"), f.size() == 8 ? f[7] : ""};
-    if (p.name.empty() || p.name.find_first_of("/\\") != std::string::npos || p.name[0] == '.')
-      throw Error(where + ": '" + p.name + "' is not a folder name");
-    if (!p.expect.empty() && p.expect != "arrived" && p.expect != "unreachable")
-      throw Error(where + ": expect '" + p.expect + "' is not arrived or unreachable");
-    out.push_back(p);
-  }
-  if (out.empty()) throw Error("--pairs " + file + ": no pair in the file");
-  return out;
-}
-
 /// The scene's route start (heading to its second waypoint) and end.
-Pair default_pair(const sim::Scene& scene) {
+loops::NavigatePair default_pair(const sim::Scene& scene) {
   const auto& r = scene.robot_route();
   const auto yaw = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return std::atan2(b.y() - a.y(), b.x() - a.x());
@@ -98,7 +61,7 @@ Pair default_pair(const sim::Scene& scene) {
           ""};
 }
 
-std::string row_text(const Pair& p, const loops::NavigateResult& r) {
+std::string row_text(const loops::NavigatePair& p, const loops::NavigateResult& r) {
   return fmt::format("{:<14} {:<11} {:>8.1f} {:>8.1f} {:>6} {:>6} {:>6} {:>7.1f} {:>7.1f}  {}",
                      p.name, loops::to_string(r.outcome), r.driven_length_m,
                      std::isfinite(r.truth_length_m) ? r.truth_length_m : 0.0,
@@ -131,11 +94,11 @@ void run(const NavigateOptions& o) {
     throw Error("--pose-source '" + o.pose_source + "': expected odometry or truth");
   cfg.pose_source = *pose_source;
   const sim::Scene scene = sim::make_terrain_scene({}, o.seed);
-  std::vector<Pair> pairs;
+  std::vector<loops::NavigatePair> pairs;
   if (!o.pairs.empty()) {
-    pairs = read_pairs(o.pairs);
+    pairs = loops::read_navigate_pairs(o.pairs);
   } else {
-    Pair p = default_pair(scene);
+    loops::NavigatePair p = default_pair(scene);
     if (!o.start.empty()) p.start = parse_pose(o.start, "--start");
     if (!o.goal.empty()) p.goal = parse_pose(o.goal, "--goal");
     pairs.push_back(p);

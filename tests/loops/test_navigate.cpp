@@ -3,15 +3,20 @@
 // its driven length within 1.15 x the Hybrid A* path planned on the truth map.
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <numbers>
+#include <string>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/loops/navigate.hpp"
 #include "fieldlidar/loops/navigate_maps.hpp"
+#include "fieldlidar/loops/navigate_pairs.hpp"
 #include "fieldlidar/sim/scenes.hpp"
 #include "fieldlidar/terrain/traversability.hpp"
+#include "test_data.hpp"
 
 using namespace fieldlidar;
 using fieldlidar::planning::Pose2;
@@ -202,4 +207,38 @@ TEST(Navigate, GoalBlockedFromAfarIsLookedAtFromNear) {
   EXPECT_LE(looked.length_ratio, 1.10);
   EXPECT_EQ(gave_up.outcome, loops::NavigateOutcome::kUnreachable) << gave_up.reason;
   EXPECT_LT(gave_up.driven_length_m, 10.0);
+}
+
+// A pairs file: comments and blank lines skipped, the expectation optional; a line that is not a
+// pair, a bad name or a bad expectation is an error naming the file's line.
+TEST(Navigate, PairsFileIsReadAndBadLinesNameTheirLine) {
+  const auto dir = test::temp_dir("navigate_pairs_file");
+  const auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  };
+  const auto pairs = loops::read_navigate_pairs(
+      write("good.csv",
+            "# name, start, goal, expect\n\nshort, 3, 20, 0, 9, 20, 0.5, arrived\n"
+            "far,1,2,3,4,5,6  # no expectation\n"));
+  ASSERT_EQ(pairs.size(), 2u);
+  EXPECT_EQ(pairs[0].name, "short");
+  EXPECT_EQ(pairs[0].expect, "arrived");
+  EXPECT_EQ(pairs[0].goal.yaw_rad, 0.5);
+  EXPECT_EQ(pairs[1].start.y_m, 2.0);
+  EXPECT_EQ(pairs[1].expect, "");
+  for (const auto& [name, text, says] :
+       {std::tuple{"short.csv", "a, 1, 2, 3\n", "line 1"},
+        std::tuple{"number.csv", "# x\na, 1, 2, 3, 4, y, 6\n", "line 2 goal"},
+        std::tuple{"name.csv", "../a, 1, 2, 3, 4, 5, 6\n", "not a folder name"},
+        std::tuple{"expect.csv", "a, 1, 2, 3, 4, 5, 6, maybe\n", "not arrived or unreachable"},
+        std::tuple{"empty.csv", "# nothing\n", "no pair"}}) {
+    try {
+      loops::read_navigate_pairs(write(name, text));
+      ADD_FAILURE() << name << ": no error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(loops::read_navigate_pairs((dir / "missing.csv").string()), Error);
 }

@@ -13,14 +13,12 @@
 #include <gtest/gtest.h>
 
 #include "fieldlidar/loops/navigate.hpp"
+#include "fieldlidar/loops/navigate_pairs.hpp"
 #include "fieldlidar/sim/scenes.hpp"
-#include "navigate_pairs.hpp"
 
 using namespace fieldlidar;
 
 namespace {
-
-using loops::test::read_pairs;
 
 /// Pairs that miss the bounds (driven length <= 1.15 x the truth plan, 0 frames on
 /// truth-impassable cells, the expected outcome), held here as regression bounds from the figures
@@ -63,7 +61,7 @@ constexpr Gap kKnownGapsSeed1[] = {
 
 void drive_pairs(const char* file, std::uint64_t seed, std::span<const Gap> gaps,
                  loops::NavigateConfig cfg = {}) {
-  const auto pairs = read_pairs(file);
+  const auto pairs = loops::read_navigate_pairs(file);
   ASSERT_GE(pairs.size(), 10u);
   const sim::Scene scene = sim::make_terrain_scene({}, seed);
   int unreachable = 0;
@@ -128,7 +126,7 @@ TEST(NavigatePairs, OdometryPosesSeed0) {
   const sim::Scene scene = sim::make_terrain_scene({}, 0);
   loops::NavigateConfig cfg;
   cfg.pose_source = loops::PoseSource::kOdometry;
-  for (const auto& p : read_pairs(FIELDLIDAR_NAVIGATE_PAIRS)) {
+  for (const auto& p : loops::read_navigate_pairs(FIELDLIDAR_NAVIGATE_PAIRS)) {
     if (p.name != "along_route" && p.name != "round_hill" && p.name != "reverse_out") continue;
     const auto r = loops::run_navigate(scene, SensorModel::vlp16(), p.start, p.goal, cfg);
     std::printf(
@@ -165,7 +163,7 @@ TEST(NavigatePairs, PitchedLookRoundTerraceAndDitch) {
   for (const Case& c : {Case{FIELDLIDAR_NAVIGATE_PAIRS_SEED1, 1, "round_terrace"},
                         Case{FIELDLIDAR_NAVIGATE_PAIRS, 0, "round_ditch"}}) {
     const sim::Scene scene = sim::make_terrain_scene({}, c.seed);
-    for (const auto& p : read_pairs(c.file)) {
+    for (const auto& p : loops::read_navigate_pairs(c.file)) {
       if (p.name != c.name) continue;
       const auto r = loops::run_navigate(scene, SensorModel::vlp16(), p.start, p.goal, cfg);
       std::printf("seed %llu %-14s %-11s ratio %.3f, %zu frames on impassable\n",

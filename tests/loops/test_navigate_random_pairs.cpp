@@ -23,8 +23,8 @@
 #include <gtest/gtest.h>
 
 #include "fieldlidar/loops/navigate.hpp"
+#include "fieldlidar/loops/navigate_pairs.hpp"
 #include "fieldlidar/sim/scenes.hpp"
-#include "navigate_pairs.hpp"
 
 using namespace fieldlidar;
 
@@ -54,7 +54,7 @@ Tally drive_random_pairs(std::uint64_t first, std::uint64_t last, MaxFrames max_
     const sim::Scene scene = sim::make_terrain_scene({}, seed);
     const std::string file = std::string(FIELDLIDAR_NAVIGATE_DATA) +
                              "/navigate_pairs_terrain_seed" + std::to_string(seed) + ".csv";
-    const auto pairs = loops::test::read_pairs(file);
+    const auto pairs = loops::read_navigate_pairs(file);
     EXPECT_EQ(pairs.size(), 12u) << file;
     for (const auto& p : pairs) {
       const auto r = loops::run_navigate(scene, SensorModel::vlp16(), p.start, p.goal, cfg);
