@@ -36,6 +36,9 @@ struct NavigateOptions {
   double max_time_s = 0, replan_period_s = loops::NavigateConfig{}.replan_period_s;
   double speed_m_s = loops::NavigateConfig{}.follower.max_speed_m_s;
   int seen_no_ground_points = loops::NavigateConfig{}.seen_no_ground_points;
+  double drop_band_max_m = loops::NavigateConfig{}.drop_band_max_m;
+  double drop_min_slope_deg = loops::NavigateConfig{}.drop_min_slope_deg;
+  double drop_radius_m = loops::NavigateConfig{}.drop_radius_m;
   double margin_m = loops::NavigateConfig{}.planner.map.footprint_margin_m;
   double shadow_radius_m = loops::NavigateConfig{}.shadow_radius_m;
   double unknown_tau = loops::NavigateConfig{}.planner.map.unknown_tau;
@@ -79,6 +82,9 @@ void run(const NavigateOptions& o) {
   cfg.replan_period_s = o.replan_period_s;
   cfg.follower.max_speed_m_s = o.speed_m_s;
   cfg.seen_no_ground_points = o.seen_no_ground_points;
+  cfg.drop_band_max_m = o.drop_band_max_m;
+  cfg.drop_min_slope_deg = o.drop_min_slope_deg;
+  cfg.drop_radius_m = o.drop_radius_m;
   cfg.planner.map.footprint_margin_m = o.margin_m;
   cfg.shadow_radius_m = o.shadow_radius_m;
   cfg.planner.map.unknown_tau = o.unknown_tau;
@@ -210,6 +216,20 @@ void add_navigate_command(CLI::App& app) {
                   "impassable (a slope too steep for the ground segmentation); 0: unknown")
       ->capture_default_str()
       ->check(whole_in(0, 1000000));
+  cmd->add_option("--drop-band", o->drop_band_max_m,
+                  "Cells never seen on a line between ground cells this close (m) whose heights "
+                  "differ by more than the robot's max step are impassable (the foot of a step "
+                  "down, hidden by its lip); 0: off")
+      ->capture_default_str()
+      ->check(real_in(0, 20));
+  cmd->add_option("--drop-slope", o->drop_min_slope_deg,
+                  "... and whose heights differ by a slope steeper than this (deg)")
+      ->capture_default_str()
+      ->check(real_in(0, 89));
+  cmd->add_option("--drop-radius", o->drop_radius_m,
+                  "... looked for this far from the robot (m), beyond its blind disk")
+      ->capture_default_str()
+      ->check(real_in(0, 100));
   cmd->add_option("--margin", o->margin_m,
                   "Clearance (m) the planner keeps around the robot's rectangle")
       ->capture_default_str()

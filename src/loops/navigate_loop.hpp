@@ -83,7 +83,8 @@ class Loop {
   GridGeometry area_;
   Grid2D truth_;
   std::vector<std::uint8_t> truth_blocked_, blocked_;
-  Grid2D grid_;                                       ///< the fused map on the area (planner input)
+  Grid2D grid_;                           ///< the fused map on the area (planner input)
+  std::vector<std::uint8_t> drop_marks_;  ///< drop bands seen so far (area_grid, mark_drop_bands)
   std::unique_ptr<planning::PlanningMap> check_map_;  ///< the planner's view of grid_
   std::vector<double> step_costs_;  ///< the current plan's step costs when it was made
   NavigateResult r_;
@@ -92,6 +93,7 @@ class Loop {
   const Pose2& me() const { return poses_->estimate(); }
   double t_ = 0, v_ = 0, last_plan_t_ = -1e9, scan_ms_ = 0, plan_ms_ = 0;
   double blind_radius_m_ = 0;  ///< no ground return nearer the sensor than this (m)
+  double mast_m_ = 0;          ///< the sensor's height above the ground under the robot (m)
   bool map_updated_ = false, done_ = false;
   bool creeping_ = false;  ///< following the cold start's creep
   double looked_rad_ = 0;  ///< turned in place so far by the start look (start_look_rad)

@@ -26,6 +26,12 @@ Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityCon
 
 Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
                  const AreaGridRules& rules) {
+  std::vector<std::uint8_t> drop_marks;
+  return area_grid(map, area, rules, drop_marks);
+}
+
+Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
+                 const AreaGridRules& rules, std::vector<std::uint8_t>& drop_marks) {
   Grid2D out(area);
   auto tau = out.add_layer(L::kTraversability, NAN);
   auto imp = out.add_layer(L::kImpassable, NAN);
@@ -39,6 +45,7 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
   const auto gneg = global.layer(L::kNegativeObstacle);
   const GridGeometry& g = global.geometry();
   std::vector<std::uint8_t> ground(area.cell_count(), 0);
+  std::vector<float> elevation(area.cell_count(), NAN);
   for (int iy = 0; iy < area.height; ++iy)
     for (int ix = 0; ix < area.width; ++ix) {
       const auto c = g.cell_of(area.cell_center(ix, iy));
@@ -47,6 +54,7 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
       tau[i] = gtau[j];
       imp[i] = gimp[j];
       pts[i] = gpts[j];
+      elevation[i] = gelev[j];
       ground[i] = std::isfinite(gelev[j]);
       if (rules.negative_impassable && gneg[j] > 0.5f &&
           (area.cell_center(ix, iy) - rules.goal_xy_m).norm() > rules.goal_clear_m)
@@ -55,6 +63,13 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
           (area.cell_center(ix, iy) - rules.sensor_xy_m).norm() < rules.blind_radius_m)
         imp[i] = 1.f;
     }
+  drop_marks.resize(area.cell_count(), 0);
+  mark_drop_bands(area, elevation, pts, known_blocked(out), rules, drop_marks);
+  for (int iy = 0; iy < area.height; ++iy)
+    for (int ix = 0; ix < area.width; ++ix)
+      if (drop_marks[area.linear_index(ix, iy)] &&
+          (area.cell_center(ix, iy) - rules.goal_xy_m).norm() > rules.goal_clear_m)
+        imp[area.linear_index(ix, iy)] = 1.f;
   if (rules.seen_no_ground_points <= 0) return out;
   // Seen well, its whole 3 x 3 window seen, and no ground plane (a cell left unknown by the map's
   // full-window rule has one: its elevation): impassable.

@@ -9,14 +9,22 @@ namespace fieldlidar::loops::detail {
 void Loop::scan() {
   const auto t0 = Clock::now();
   const sim::SimFrame frame = lidar_.scan(t_, poses_->lidar_pose(pose_));
-  map_.add_scan(frame.cloud, sensor_, poses_->place_sweep(frame.cloud, t_, pose_));
+  const Pose placed = poses_->place_sweep(frame.cloud, t_, pose_);
+  map_.add_scan(frame.cloud, sensor_, placed);
   grid_ = area_grid(map_, area_,
                     {.seen_no_ground_points = cfg_.seen_no_ground_points,
                      .sensor_xy_m = {me().x_m, me().y_m},
+                     .sensor_z_m = placed.translation().z(),
+                     .sensor_height_m = mast_m_,
                      .blind_radius_m = blind_radius_m_,
                      .negative_impassable = cfg_.negative_obstacles_impassable,
                      .goal_xy_m = {goal_.x_m, goal_.y_m},
-                     .goal_clear_m = cfg_.negative_goal_clear_m});
+                     .goal_clear_m = cfg_.negative_goal_clear_m,
+                     .drop_band_max_m = cfg_.drop_band_max_m,
+                     .drop_min_m = robot_.max_step_m,
+                     .drop_min_slope_deg = cfg_.drop_min_slope_deg,
+                     .drop_radius_m = cfg_.drop_radius_m},
+                    drop_marks_);
   blocked_ = known_blocked(grid_);
   check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);
   map_updated_ = true;

@@ -1,20 +1,21 @@
 // Random start/goal pairs on the terrain scenes of seeds 2-5 (data/navigate_pairs_terrain_seed2..5
 // .csv, 12 each, drawn by scripts/navigate_random_pairs.py; slow: about a minute in Release), the
 // navigate loop with its defaults. Judged as a whole, with bounds from the figures measured:
-// - the 36 pairs whose goal the Hybrid A* plan on the truth map reaches: every one arrives; 30 of
-//   36 within 1.15 x the truth plan, mean ratio 1.062, largest 1.292 (detours round rock fields
-//   whose gaps the map's obstacle halo closes); one drive puts the footprint on truth-impassable
-//   cells, 10 frames (seed 2 p9: its corner 1 cm into the cell west of a rock by the terrace's
+// - the 36 pairs whose goal the Hybrid A* plan on the truth map reaches: every one arrives; 31 of
+//   36 within 1.15 x the truth plan, mean ratio 1.050, largest 1.288 (detours round rock fields
+//   whose gaps the map's obstacle halo closes). Two drives put the footprint on truth-impassable
+//   cells: seed 2 p9, 10 frames (its corner 1 cm into the cell west of a rock by the terrace's
 //   north-west corner, a cell the map held unknown as the robot passed, 2 returns: in the
 //   blind disk then, seen only edge-on before; its east and north neighbours were blocked by
-//   their step, and the obstacle halo grows only from cells with obstacle returns). It had
-//   none, on another line, before the ground segmentation took the first ground of a hill's
-//   foot and the map dropped overhangs taken for ground;
+//   their step, and the obstacle halo grows only from cells with obstacle returns), and seed 3
+//   p3, 12 frames (turning onto its goal beside the ditch's end, since the drop bands);
 // - the 6 goals on the walled-in terrace: each reported unreachable, 0 frames (8 before, seed 3
 //   p0: the footprint's corner on the truth cell at the terrace's corner);
-// - the 6 starts on the terrace (truth: no way off): a known gap. The step is 2-4 m from each
-//   start, inside the blind disk of the start and of the approach (cut at the step: no robot
-//   came from below), so the robot drives off it (21-62 frames each) and "arrives".
+// - the 6 starts on the terrace (truth: no way off): 3 reported unreachable since the drop bands
+//   (the foot of the step, hidden by its lip, seen from above as a band of unseen cells between
+//   ground cells 0.5 m apart in height: loops::mark_drop_bands); before, all 6 drove off it
+//   (21-62 frames each). Three still do (163 frames): the step 1-3 m from the start, never
+//   outside the blind disk of the start or the approach, or reached at the terrace's corner.
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -33,8 +34,9 @@ namespace {
 /// The whole of a run of random pairs.
 struct Tally {
   int reachable = 0, arrived = 0, over = 0, to_terrace = 0, said_unreachable = 0;
+  int on_terrace = 0, on_terrace_said_unreachable = 0, on_terrace_drives_with_frames = 0;
   int reachable_drives_with_frames = 0;
-  std::size_t reachable_frames = 0, to_terrace_frames = 0;
+  std::size_t reachable_frames = 0, to_terrace_frames = 0, on_terrace_frames = 0;
   double ratio_sum = 0, ratio_max = 0;
   double mean() const { return arrived ? ratio_sum / arrived : 0.0; }
 };
@@ -86,15 +88,21 @@ Tally drive_random_pairs(std::uint64_t first, std::uint64_t last, MaxFrames max_
           EXPECT_TRUE(p.name.ends_with("_on_terrace")) << p.name;
           EXPECT_LE(r.frames_on_impassable, max_on_terrace_frames)
               << "seed " << seed << " " << p.name;
+          ++t.on_terrace;
+          t.on_terrace_said_unreachable += r.outcome == loops::NavigateOutcome::kUnreachable;
+          t.on_terrace_frames += r.frames_on_impassable;
+          t.on_terrace_drives_with_frames += r.frames_on_impassable > 0;
         }
       }
     }
   }
   std::printf(
       "reachable %d: arrived %d, drives on truth-impassable cells %d (%zu frames), over 1.15: "
-      "%d, mean ratio %.3f, largest %.3f; goals on the terrace %d: unreachable %d, frames %zu\n",
+      "%d, mean ratio %.3f, largest %.3f; goals on the terrace %d: unreachable %d, frames %zu; "
+      "starts on the terrace %d: unreachable %d, drives with frames %d (%zu frames)\n",
       t.reachable, t.arrived, t.reachable_drives_with_frames, t.reachable_frames, t.over, t.mean(),
-      t.ratio_max, t.to_terrace, t.said_unreachable, t.to_terrace_frames);
+      t.ratio_max, t.to_terrace, t.said_unreachable, t.to_terrace_frames, t.on_terrace,
+      t.on_terrace_said_unreachable, t.on_terrace_drives_with_frames, t.on_terrace_frames);
   return t;
 }
 
@@ -104,26 +112,30 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
   const Tally t = drive_random_pairs(
       2, 5,
       [](std::uint64_t seed, const std::string& name) {
-        return seed == 2 && name == "p9" ? 10u : 0u;  // see above
+        if (seed == 2 && name == "p9") return 10u;  // see above
+        return seed == 3 && name == "p3" ? 12u : 0u;
       },
-      70);
+      90);
   EXPECT_EQ(t.reachable, 36);
   EXPECT_EQ(t.arrived, t.reachable);
-  EXPECT_LE(t.reachable_frames, 10u);
-  EXPECT_LE(t.reachable_drives_with_frames, 1);
-  EXPECT_LE(t.over, 6);
-  EXPECT_LE(t.mean(), 1.08);
-  EXPECT_LE(t.ratio_max, 1.40);
+  EXPECT_LE(t.reachable_frames, 22u);
+  EXPECT_LE(t.reachable_drives_with_frames, 2);
+  EXPECT_LE(t.over, 5);
+  EXPECT_LE(t.mean(), 1.06);
+  EXPECT_LE(t.ratio_max, 1.30);
   EXPECT_EQ(t.to_terrace, 6);
   EXPECT_EQ(t.said_unreachable, t.to_terrace);
   EXPECT_LE(t.to_terrace_frames, 10u);
+  EXPECT_EQ(t.on_terrace, 6);
+  EXPECT_GE(t.on_terrace_said_unreachable, 3);
+  EXPECT_LE(t.on_terrace_frames, 170u);
 }
 
 // 192 more random pairs, seeds 6-21 (navigate_pairs_terrain_seed6..21.csv; about four minutes in
 // Release), the map's failures on which were looked at for the ground and overhang changes of
 // issue 17 (seeds 18-21 drawn after the first two were chosen): a fence round what the loop does
 // on them, with what it still gets wrong.
-// - 148 pairs the truth plan reaches: 141 arrive, 10 over 1.15 x the truth plan (mean 1.050,
+// - 148 pairs the truth plan reaches: 141 arrive, 9 over 1.15 x the truth plan (mean 1.048,
 //   largest 1.980). Reported unreachable: 5 goals on hill flanks
 //   whose cells the map still finds too steep, raised or without ground (seeds 8, 9, 13, 14, 16),
 //   one start beside the hill with no path (seed 7 p6), one goal after a 65 m search (seed 9 p11).
@@ -131,8 +143,9 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
 //   ditch's end, in the blind disk of the start and of the approach (seed 21 p9 drives along
 //   the ditch it starts beside: 95 frames), and gaps between rocks the map leaves open and the
 //   truth's discs close; 374 frames in all.
-// - the 26 goals on the terrace: reported unreachable (8 frames in all); the 18 starts there
-//   drive off its step (up to 119 frames).
+// - the 26 goals on the terrace: reported unreachable (8 frames in all); of the 18 starts there,
+//   15 are reported unreachable since the drop bands (before, all 18 drove off its step, up to
+//   119 frames), 5 drives touch the step (142 frames).
 TEST(NavigatePairs, RandomPairsSeeds6To21) {
   const Tally t = drive_random_pairs(
       6, 21, [](std::uint64_t, const std::string&) { return 100u; }, 150);
@@ -140,8 +153,11 @@ TEST(NavigatePairs, RandomPairsSeeds6To21) {
   EXPECT_GE(t.arrived, 141);
   EXPECT_LE(t.reachable_drives_with_frames, 11);
   EXPECT_LE(t.reachable_frames, 400u);
-  EXPECT_LE(t.over, 10);
-  EXPECT_LE(t.mean(), 1.06);
+  EXPECT_LE(t.over, 9);
+  EXPECT_LE(t.mean(), 1.055);
   EXPECT_LE(t.ratio_max, 2.05);
   EXPECT_EQ(t.said_unreachable, t.to_terrace);
+  EXPECT_EQ(t.on_terrace, 18);
+  EXPECT_GE(t.on_terrace_said_unreachable, 15);
+  EXPECT_LE(t.on_terrace_frames, 160u);
 }

@@ -62,6 +62,13 @@ struct NavigateConfig {
   /// half-diagonal (0.55 m), the goal tolerance and a cell. Seed 0 round_hill without the detour
   /// hold: a trench mark by the goal made it unreachable (1.342 before the marks).
   double negative_goal_clear_m = 1.35;
+  /// The foot of a step down seen from above (see mark_drop_bands): cells without a return on a
+  /// line between ground cells at most drop_band_max_m apart (m) whose heights differ by more
+  /// than the robot's max_step_m and by a slope steeper than drop_min_slope_deg, seen beyond the
+  /// blind disk and within drop_radius_m of the robot (m), are impassable until seen; 0: off.
+  double drop_band_max_m = 3.0;
+  double drop_min_slope_deg = 0.0;
+  double drop_radius_m = 12.0;
   /// Cells never seen within this distance (m) of the robot (beyond its blind disk) are shadows,
   /// planned at shadow_tau rather than as unknown (see cost_shadows); 0: off. Off by default: at
   /// 12 m on the seed-0 pairs it shortened the drive round the ditch (ratio 1.357 -> 1.233) but

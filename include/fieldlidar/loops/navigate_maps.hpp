@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "fieldlidar/core/grid2d.hpp"
@@ -31,6 +32,8 @@ struct AreaGridRules {
   /// there with `blind_points` returns and no ground plane (the top of a rock beside the robot at
   /// the start, which the map cannot call an obstacle without the ground under it).
   Eigen::Vector2d sensor_xy_m = Eigen::Vector2d::Zero();
+  double sensor_z_m = 0.0;       ///< the sensor's height in the map's frame (m; drop bands)
+  double sensor_height_m = 0.0;  ///< ... and above the ground under the robot (m)
   double blind_radius_m = 0.0;
   int blind_points = 3;
   /// A likely negative obstacle (layer kNegativeObstacle: a trench shadow not seen yet), but
@@ -39,12 +42,53 @@ struct AreaGridRules {
   bool negative_impassable = false;
   Eigen::Vector2d goal_xy_m = Eigen::Vector2d::Zero();
   double goal_clear_m = 0.0;
+  /// Drop-offs seen from above (see mark_drop_bands): cells without a return on a line between
+  /// two ground cells no more than drop_band_max_m apart whose heights differ by more than
+  /// drop_min_m and by a slope steeper than drop_min_slope_deg, found between blind_radius_m and
+  /// drop_radius_m from the sensor (m); a band of 0 m: off. Not within goal_clear_m of the goal.
+  double drop_band_max_m = 0.0;
+  double drop_min_m = 0.0;
+  double drop_min_slope_deg = 0.0;
+  double drop_ray_share = 0.5;
+  double drop_radius_m = 0.0;
 };
 
 /// The fused map's traversability, impassable and points layers on `area` (cells the fused map has
 /// not seen stay unknown: NaN tau, 0 points), with the cells `rules` name impassable too.
 Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
                  const AreaGridRules& rules = {});
+
+/// The same, with the drop bands' marks (mark_drop_bands) kept in `drop_marks` between calls
+/// (resized to the area when it is not its size): marked cells are impassable but within
+/// rules.goal_clear_m of the goal (a guess never makes a goal unreachable).
+Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
+                 const AreaGridRules& rules, std::vector<std::uint8_t>& drop_marks);
+
+/// The foot of a step down (a terrace's edge, a bank, a wall's top) lies in the shadow of its lip
+/// and is never seen from above, not even from the lip, which is inside the sensor's blind disk
+/// by then: the map holds ground, a band of cells without a return, then ground lower by more
+/// than the robot's step. Such a band is marked in `marks` (one byte per cell of `area`, kept
+/// between calls): a cell without a return (`points` 0) and without ground (`elevation` NaN),
+/// between rules.blind_radius_m and rules.drop_radius_m from rules.sensor_xy_m, on one of the
+/// four lines through it (the axes, the diagonals) within 30 deg of the sensor's ray, between
+/// ground cells at most rules.drop_band_max_m apart (centre to centre) whose elevations differ
+/// by more than rules.drop_min_m and by a slope steeper than rules.drop_min_slope_deg, where
+/// - the higher is nearer the sensor (a face turned to it shows gaps between rings, no shadow);
+/// - the higher is not `blocked` (a rock's top kept as ground: behind it is its own shadow);
+/// - the higher is at most drop_min_m above the ground under the robot (rules.sensor_z_m -
+///   rules.sensor_height_m): an edge the robot stands above, not the far side of a bank or
+///   terrace seen from below, which it cannot drive off;
+/// - the straight line between them is steeper than rules.drop_ray_share of the sensor's ray to
+///   the higher: ground that gentle would have shown, so the band is a shadow, not a gap between
+///   two rings on a downslope (a step's shadow ends where the ray over its lip meets the lower
+///   ground, so the line is about as steep as that ray, less the ground seen short of the lip).
+/// A mark stays until the cell is seen (a return or ground in it); inside the blind disk nothing
+/// is marked (unseen there for want of a beam, not for a shadow). A ditch (both lips level), the
+/// shadow behind a rock (the ground beyond level with the ground before) and the gaps between
+/// rings on gentle ground are not drops.
+void mark_drop_bands(const GridGeometry& area, std::span<const float> elevation,
+                     std::span<const float> points, std::span<const std::uint8_t> blocked,
+                     const AreaGridRules& rules, std::span<std::uint8_t> marks);
 
 /// Cells never seen (no return) between inner_m and outer_m from the sensor are shadows: ground
 /// the sensor would have seen were it not hidden (behind a rock, inside a ditch or pit). They get
