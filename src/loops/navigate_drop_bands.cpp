@@ -62,7 +62,9 @@ struct DropField {
     // Ground the robot could stand on, not a rock's top kept as ground (its own shadow).
     if (blocked[area.linear_index(hx, hy)]) return false;
     // An edge the robot stands above, not a terrace's far side seen from below it.
-    if (z_high > rules.sensor_z_m - rules.sensor_height_m + rules.drop_min_m) return false;
+    if (z_high > rules.sensor_z_m - rules.sensor_height_m + rules.drop_min_m +
+                     rules.drop_rise_per_m * high_d)
+      return false;
     // Steep enough to hide under the ray that grazes the higher side.
     const double ray = (rules.sensor_z_m - z_high) / std::max(high_d, area.resolution_m);
     return drop / apart > rules.drop_ray_share * ray;

@@ -1,7 +1,7 @@
 // Random start/goal pairs on the terrain scenes of seeds 2-5 (data/navigate_pairs_terrain_seed2..5
 // .csv, 12 each, drawn by scripts/navigate_random_pairs.py; slow: about a minute in Release), the
 // navigate loop with its defaults. Judged as a whole, with bounds from the figures measured:
-// - the 36 pairs whose goal the Hybrid A* plan on the truth map reaches: every one arrives; 31 of
+// - the 36 pairs whose goal the Hybrid A* plan on the truth map reaches: every one arrives; 32 of
 //   36 within 1.15 x the truth plan, mean ratio 1.050, largest 1.288 (detours round rock fields
 //   whose gaps the map's obstacle halo closes). Two drives put the footprint on truth-impassable
 //   cells: seed 2 p9, 10 frames (its corner 1 cm into the cell west of a rock by the terrace's
@@ -11,11 +11,11 @@
 //   p3, 12 frames (turning onto its goal beside the ditch's end, since the drop bands);
 // - the 6 goals on the walled-in terrace: each reported unreachable, 0 frames (8 before, seed 3
 //   p0: the footprint's corner on the truth cell at the terrace's corner);
-// - the 6 starts on the terrace (truth: no way off): 3 reported unreachable since the drop bands
+// - the 6 starts on the terrace (truth: no way off): 4 reported unreachable since the drop bands
 //   (the foot of the step, hidden by its lip, seen from above as a band of unseen cells between
 //   ground cells 0.5 m apart in height: loops::mark_drop_bands); before, all 6 drove off it
-//   (21-62 frames each). Three still do (163 frames): the step 1-3 m from the start, never
-//   outside the blind disk of the start or the approach, or reached at the terrace's corner.
+//   (21-62 frames each). Two still do (81 frames): the step 1.5-2.5 m from the start, never
+//   outside the blind disk of the start or the approach.
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -120,22 +120,22 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
   EXPECT_EQ(t.arrived, t.reachable);
   EXPECT_LE(t.reachable_frames, 22u);
   EXPECT_LE(t.reachable_drives_with_frames, 2);
-  EXPECT_LE(t.over, 5);
+  EXPECT_LE(t.over, 4);
   EXPECT_LE(t.mean(), 1.06);
   EXPECT_LE(t.ratio_max, 1.30);
   EXPECT_EQ(t.to_terrace, 6);
   EXPECT_EQ(t.said_unreachable, t.to_terrace);
   EXPECT_LE(t.to_terrace_frames, 10u);
   EXPECT_EQ(t.on_terrace, 6);
-  EXPECT_GE(t.on_terrace_said_unreachable, 3);
-  EXPECT_LE(t.on_terrace_frames, 170u);
+  EXPECT_GE(t.on_terrace_said_unreachable, 4);
+  EXPECT_LE(t.on_terrace_frames, 90u);
 }
 
 // 192 more random pairs, seeds 6-21 (navigate_pairs_terrain_seed6..21.csv; about four minutes in
 // Release), the map's failures on which were looked at for the ground and overhang changes of
 // issue 17 (seeds 18-21 drawn after the first two were chosen): a fence round what the loop does
 // on them, with what it still gets wrong.
-// - 148 pairs the truth plan reaches: 141 arrive, 9 over 1.15 x the truth plan (mean 1.048,
+// - 148 pairs the truth plan reaches: 141 arrive, 9 over 1.15 x the truth plan (mean 1.049,
 //   largest 1.980). Reported unreachable: 5 goals on hill flanks
 //   whose cells the map still finds too steep, raised or without ground (seeds 8, 9, 13, 14, 16),
 //   one start beside the hill with no path (seed 7 p6), one goal after a 65 m search (seed 9 p11).
@@ -145,7 +145,7 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
 //   truth's discs close; 374 frames in all.
 // - the 26 goals on the terrace: reported unreachable (8 frames in all); of the 18 starts there,
 //   15 are reported unreachable since the drop bands (before, all 18 drove off its step, up to
-//   119 frames), 5 drives touch the step (142 frames).
+//   119 frames), 4 drives touch the step (126 frames).
 TEST(NavigatePairs, RandomPairsSeeds6To21) {
   const Tally t = drive_random_pairs(
       6, 21, [](std::uint64_t, const std::string&) { return 100u; }, 150);
@@ -159,5 +159,5 @@ TEST(NavigatePairs, RandomPairsSeeds6To21) {
   EXPECT_EQ(t.said_unreachable, t.to_terrace);
   EXPECT_EQ(t.on_terrace, 18);
   EXPECT_GE(t.on_terrace_said_unreachable, 15);
-  EXPECT_LE(t.on_terrace_frames, 160u);
+  EXPECT_LE(t.on_terrace_frames, 135u);
 }

@@ -50,6 +50,7 @@ struct AreaGridRules {
   double drop_min_m = 0.0;
   double drop_min_slope_deg = 0.0;
   double drop_ray_share = 0.5;
+  double drop_rise_per_m = 0.03;
   double drop_radius_m = 0.0;
 };
 
@@ -75,7 +76,8 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
 /// by more than rules.drop_min_m and by a slope steeper than rules.drop_min_slope_deg, where
 /// - the higher is nearer the sensor (a face turned to it shows gaps between rings, no shadow);
 /// - the higher is not `blocked` (a rock's top kept as ground: behind it is its own shadow);
-/// - the higher is at most drop_min_m above the ground under the robot (rules.sensor_z_m -
+/// - the higher is at most drop_min_m, plus drop_rise_per_m per metre from the sensor (gentle
+///   ground rising to the lip), above the ground under the robot (rules.sensor_z_m -
 ///   rules.sensor_height_m): an edge the robot stands above, not the far side of a bank or
 ///   terrace seen from below, which it cannot drive off;
 /// - the straight line between them is steeper than rules.drop_ray_share of the sensor's ray to
