@@ -44,8 +44,11 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
   const auto gelev = global.layer(L::kElevation);
   const auto gneg = global.layer(L::kNegativeObstacle);
   const GridGeometry& g = global.geometry();
-  std::vector<std::uint8_t> ground(area.cell_count(), 0);
-  std::vector<float> elevation(area.cell_count(), NAN);
+  std::vector<float> elevation(area.cell_count(), NAN);  // NaN: no ground plane
+  // A guess from a shadow never makes a goal unreachable.
+  const auto off_goal = [&](int ix, int iy) {
+    return (area.cell_center(ix, iy) - rules.goal_xy_m).norm() > rules.goal_clear_m;
+  };
   for (int iy = 0; iy < area.height; ++iy)
     for (int ix = 0; ix < area.width; ++ix) {
       const auto c = g.cell_of(area.cell_center(ix, iy));
@@ -55,11 +58,9 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
       imp[i] = gimp[j];
       pts[i] = gpts[j];
       elevation[i] = gelev[j];
-      ground[i] = std::isfinite(gelev[j]);
-      if (rules.negative_impassable && gneg[j] > 0.5f &&
-          (area.cell_center(ix, iy) - rules.goal_xy_m).norm() > rules.goal_clear_m)
-        imp[i] = 1.f;
-      if (!ground[i] && !std::isfinite(tau[i]) && pts[i] >= float(rules.blind_points) &&
+      if (rules.negative_impassable && gneg[j] > 0.5f && off_goal(ix, iy)) imp[i] = 1.f;
+      if (!std::isfinite(elevation[i]) && !std::isfinite(tau[i]) &&
+          pts[i] >= float(rules.blind_points) &&
           (area.cell_center(ix, iy) - rules.sensor_xy_m).norm() < rules.blind_radius_m)
         imp[i] = 1.f;
     }
@@ -67,8 +68,7 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
   mark_drop_bands(area, elevation, pts, known_blocked(out), rules, drop_marks);
   for (int iy = 0; iy < area.height; ++iy)
     for (int ix = 0; ix < area.width; ++ix)
-      if (drop_marks[area.linear_index(ix, iy)] &&
-          (area.cell_center(ix, iy) - rules.goal_xy_m).norm() > rules.goal_clear_m)
+      if (drop_marks[area.linear_index(ix, iy)] && off_goal(ix, iy))
         imp[area.linear_index(ix, iy)] = 1.f;
   if (rules.seen_no_ground_points <= 0) return out;
   // Seen well, its whole 3 x 3 window seen, and no ground plane (a cell left unknown by the map's
@@ -77,7 +77,8 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
   for (int iy = 1; iy + 1 < area.height; ++iy)
     for (int ix = 1; ix + 1 < area.width; ++ix) {
       const std::size_t i = area.linear_index(ix, iy);
-      if (std::isfinite(tau[i]) || ground[i] || pts[i] < float(rules.seen_no_ground_points))
+      if (std::isfinite(tau[i]) || std::isfinite(elevation[i]) ||
+          pts[i] < float(rules.seen_no_ground_points))
         continue;
       bool window_seen = true;
       for (int dy = -1; dy <= 1; ++dy)
