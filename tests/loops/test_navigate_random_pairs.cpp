@@ -135,10 +135,10 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
 // Release), the map's failures on which were looked at for the ground and overhang changes of
 // issue 17 (seeds 18-21 drawn after the first two were chosen): a fence round what the loop does
 // on them, with what it still gets wrong.
-// - 148 pairs the truth plan reaches: 141 arrive, 9 over 1.15 x the truth plan (mean 1.049,
-//   largest 1.980). Reported unreachable: 5 goals on hill flanks
-//   whose cells the map still finds too steep, raised or without ground (seeds 8, 9, 13, 14, 16),
-//   one start beside the hill with no path (seed 7 p6), one goal after a 65 m search (seed 9 p11).
+// - 148 pairs the truth plan reaches: 144 arrive (141 when a blocked goal was judged from 8 m),
+//   10 over 1.15 x the truth plan (mean 1.050, largest 1.980). Not arrived: 2 goals on hill
+//   flanks whose cells the map finds raised even from near (seeds 8, 16), one start beside the
+//   hill with no path (seed 7 p6), one goal after a 65 m search (seed 9 p11, time limit).
 //   11 drives put the footprint on truth-impassable cells: starts 1-2 m from a rock or the
 //   ditch's end, in the blind disk of the start and of the approach (seed 21 p9 drives along
 //   the ditch it starts beside: 95 frames), and gaps between rocks the map leaves open and the
@@ -150,10 +150,10 @@ TEST(NavigatePairs, RandomPairsSeeds6To21) {
   const Tally t = drive_random_pairs(
       6, 21, [](std::uint64_t, const std::string&) { return 100u; }, 150);
   EXPECT_EQ(t.reachable, 148);
-  EXPECT_GE(t.arrived, 141);
+  EXPECT_GE(t.arrived, 144);
   EXPECT_LE(t.reachable_drives_with_frames, 11);
   EXPECT_LE(t.reachable_frames, 400u);
-  EXPECT_LE(t.over, 9);
+  EXPECT_LE(t.over, 10);
   EXPECT_LE(t.mean(), 1.055);
   EXPECT_LE(t.ratio_max, 2.05);
   EXPECT_EQ(t.said_unreachable, t.to_terrace);
