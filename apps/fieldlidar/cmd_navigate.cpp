@@ -65,11 +65,12 @@ loops::NavigatePair default_pair(const sim::Scene& scene) {
 }
 
 std::string row_text(const loops::NavigatePair& p, const loops::NavigateResult& r) {
-  return fmt::format("{:<14} {:<11} {:>8.1f} {:>8.1f} {:>6} {:>6} {:>6} {:>7.1f} {:>7.1f}  {}",
-                     p.name, loops::to_string(r.outcome), r.driven_length_m,
-                     std::isfinite(r.truth_length_m) ? r.truth_length_m : 0.0,
-                     std::isfinite(r.length_ratio) ? fmt::format("{:.3f}", r.length_ratio) : "-",
-                     r.replans, r.frames_on_impassable, r.duration_s, r.wall_s, r.reason);
+  return fmt::format(
+      "{:<14} {:<11} {:>8.1f} {:>8.1f} {:>6} {:>6} {:>6} {:>6.2f} {:>7.1f} {:>7.1f}  {}", p.name,
+      loops::to_string(r.outcome), r.driven_length_m,
+      std::isfinite(r.truth_length_m) ? r.truth_length_m : 0.0,
+      std::isfinite(r.length_ratio) ? fmt::format("{:.3f}", r.length_ratio) : "-", r.replans,
+      r.frames_on_impassable, r.max_impassable_depth_m, r.duration_s, r.wall_s, r.reason);
 }
 
 void run(const NavigateOptions& o) {
@@ -121,12 +122,12 @@ void run(const NavigateOptions& o) {
     if (fs::exists(f) && !o.force)
       throw Error("navigate: " + f.string() + " exists (use --force to replace it)");
   const SensorModel sensor = SensorModel::vlp16();
-  const std::string header =
-      fmt::format("{:<14} {:<11} {:>8} {:>8} {:>6} {:>6} {:>6} {:>7} {:>7}  {}", "pair", "outcome",
-                  "driven_m", "truth_m", "ratio", "replan", "imp_fr", "sim_s", "wall_s", "reason");
+  const std::string header = fmt::format(
+      "{:<14} {:<11} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6} {:>7} {:>7}  {}", "pair", "outcome",
+      "driven_m", "truth_m", "ratio", "replan", "imp_fr", "depth", "sim_s", "wall_s", "reason");
   std::string table_csv =
-      "pair,expect,outcome,driven_m,truth_plan_m,ratio,replans,frames_on_impassable,sim_s,wall_s,"
-      "reason\n";
+      "pair,expect,outcome,driven_m,truth_plan_m,ratio,replans,frames_on_impassable,"
+      "max_impassable_depth_m,sim_s,wall_s,reason\n";
   std::vector<std::string> lines;
   NavigateTally tally;
   int mismatches = 0;
@@ -163,10 +164,10 @@ void run(const NavigateOptions& o) {
     mismatches += mismatch;
     lines.push_back(row_text(p, r) + (mismatch ? "  (expected " + p.expect + ")" : ""));
     fmt::print(stderr, "  {}\n", lines.back());
-    table_csv += fmt::format("{},{},{},{:.2f},{:.2f},{:.4f},{},{},{:.1f},{:.1f},\"{}\"\n", p.name,
-                             p.expect, loops::to_string(r.outcome), r.driven_length_m,
+    table_csv += fmt::format("{},{},{},{:.2f},{:.2f},{:.4f},{},{},{:.2f},{:.1f},{:.1f},\"{}\"\n",
+                             p.name, p.expect, loops::to_string(r.outcome), r.driven_length_m,
                              r.truth_length_m, r.length_ratio, r.replans, r.frames_on_impassable,
-                             r.duration_s, r.wall_s, r.reason);
+                             r.max_impassable_depth_m, r.duration_s, r.wall_s, r.reason);
   }
   if (many) io::write_file_atomic(out / "pairs.csv", table_csv, o.force);
   fmt::print("{}\n", header);

@@ -65,6 +65,8 @@ class Loop {
   /// the robot does not already stand on.
   bool enters_known_blocked(const Pose2& next) const;
   bool on_truth_impassable(const Pose2& pose) const;
+  /// NavigateResult::max_impassable_depth_m at one pose.
+  double truth_impassable_depth_m(const Pose2& pose) const;
   void finish(NavigateOutcome outcome, std::string reason, NavigateState state) {
     r_.outcome = outcome;
     r_.reason = std::move(reason);

@@ -2,6 +2,7 @@
 // robot's footprint against the built map (the emergency stop) and against the truth (the score).
 
 #include "fieldlidar/loops/navigate_maps.hpp"
+#include "fieldlidar/planning/planning_map.hpp"
 #include "navigate_loop.hpp"
 
 namespace fieldlidar::loops::detail {
@@ -41,6 +42,20 @@ bool Loop::on_truth_impassable(const Pose2& pose) const {
   for (long c : footprint_cells(area_, pose, robot_))
     if (c < 0 || truth_blocked_[std::size_t(c)]) return true;
   return false;
+}
+
+double Loop::truth_impassable_depth_m(const Pose2& pose) const {
+  const auto reaches = [&](double d) {
+    for (long c : planning::rectangle_cells(area_, pose, 0.5 * robot_.length_m - d,
+                                            0.5 * robot_.width_m - d))
+      if (c < 0 || truth_blocked_[std::size_t(c)]) return true;
+    return false;
+  };
+  if (!reaches(0.0)) return 0.0;
+  int cm = 0;  // reaches(cm / 100) holds; the footprint's half width bounds it
+  for (int step = 32; step > 0; step /= 2)
+    if (cm + step < int(50.0 * robot_.width_m) && reaches((cm + step) / 100.0)) cm += step;
+  return cm / 100.0;
 }
 
 }  // namespace fieldlidar::loops::detail

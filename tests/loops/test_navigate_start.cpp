@@ -48,12 +48,16 @@ TEST(NavigateStart, ApproachSweepsShowARockInTheBlindDisk) {
     const auto r = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
     std::printf(
         "approach %.1f m: %s (%s), %zu approach sweeps, ratio %.3f, %zu frames on "
-        "impassable, %.1f s wall\n",
+        "impassable (%.2f m deep), %.1f s wall\n",
         approach, loops::to_string(r.outcome), r.reason.c_str(), r.approach_sweeps, r.length_ratio,
-        r.frames_on_impassable, r.wall_s);
+        r.frames_on_impassable, r.max_impassable_depth_m, r.wall_s);
+    EXPECT_EQ(r.max_impassable_depth_m > 0.0, r.frames_on_impassable > 0u);
     if (approach == 0.0) {
       EXPECT_EQ(r.approach_sweeps, 0u);
       EXPECT_GT(r.frames_on_impassable, 0u);
+      // Across the rock: its cells reach well into the footprint (at most its half width).
+      EXPECT_GE(r.max_impassable_depth_m, 0.1);
+      EXPECT_LE(r.max_impassable_depth_m, 0.29);
     } else {
       EXPECT_EQ(r.approach_sweeps, 4u);
       EXPECT_EQ(r.outcome, loops::NavigateOutcome::kArrived) << r.reason;

@@ -173,6 +173,7 @@ nlohmann::json navigate_summary(const loops::NavigateResult& r) {
   j["length_ratio"] = number_or_null(r.length_ratio);
   j["frames"] = r.rows.size();
   j["frames_on_impassable"] = r.frames_on_impassable;
+  j["max_impassable_depth_m"] = r.max_impassable_depth_m;
   j["plans"] = r.plans.size();
   j["replans"] = r.replans;
   j["safety_stops"] = r.safety_stops;

@@ -11,6 +11,7 @@ void NavigateTally::add(const loops::NavigateResult& r) {
   ++pairs_;
   touching_ += r.frames_on_impassable > 0;
   frames_ += r.frames_on_impassable;
+  deep_ += r.max_impassable_depth_m >= kDeep_m;
   if (r.truth_status != planning::PlanStatus::kSuccess) {
     ++unreachable_;
     said_unreachable_ += r.outcome == loops::NavigateOutcome::kUnreachable;
@@ -30,8 +31,10 @@ std::string NavigateTally::text() const {
   if (arrived_ > 0)
     s += fmt::format(" ({} within {:.2f} x its length, mean {:.3f}, largest {:.3f})", within_,
                      ratio_bound_, ratio_sum_ / double(arrived_), ratio_max_);
-  s += fmt::format("; {} drives with the footprint on truth-impassable cells ({} frames)",
-                   touching_, frames_);
+  s += fmt::format(
+      "; {} drives with the footprint on truth-impassable cells ({} frames; {} reaching {:.2f} m "
+      "or more into such a cell)",
+      touching_, frames_, deep_, kDeep_m);
   s += fmt::format("; {} of {} goals it cannot reach reported unreachable", said_unreachable_,
                    unreachable_);
   return s;

@@ -235,6 +235,11 @@ struct NavigateResult {
   double truth_length_m = NAN;  ///< Hybrid A* on the truth map (NaN when it finds none)
   double length_ratio = NAN;    ///< driven / truth length
   std::size_t frames_on_impassable = 0;
+  /// How deep a truth-impassable cell reached into the footprint, at its deepest over the drive
+  /// (m, in 1 cm steps; 0 when never): the largest d for which the footprint shrunk by d on
+  /// every side still overlaps such a cell. A few cm is the footprint brushing a cell whose
+  /// danger (a pit's wall, a rock's base) may lie anywhere in its 0.5 m.
+  double max_impassable_depth_m = 0;
   int replans = 0;  ///< plans after the first
   int safety_stops = 0;
   int escapes = 0;  ///< plans that began with an escape (NavigateConfig::escape_max_m)
