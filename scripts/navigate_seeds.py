@@ -1,0 +1,100 @@
+#!/usr/bin/env python3
+"""Random start/goal pairs on many terrain scenes, driven by `fieldlidar navigate`, summed up.
+
+For each seed from FIRST to LAST: the scene's terrain truth (`fieldlidar simulate --scene terrain
+--frames 1`), 12 random pairs (`navigate_random_pairs.py`, reproducible per seed), and one
+`fieldlidar navigate --seed N --pairs` run into OUT/seed_N; then one summary over every pair, the
+figures the navigate issue is judged by: goals the truth plan reaches that arrived, drives whose
+footprint touched truth-impassable cells (and how deep), driven length over the truth plan, and
+unreachable goals reported so. Seeds run JOBS at a time (default 2). Extra arguments after `--`
+go to every `fieldlidar navigate` run (e.g. `-- --noise-seed 2`).
+
+usage: navigate_seeds.py FIRST LAST OUT [--fieldlidar PATH] [--jobs N] [-- NAVIGATE_OPTIONS...]
+"""
+import argparse
+import concurrent.futures
+import csv
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def run_seed(seed, out, fieldlidar, extra):
+    """Simulate, draw the pairs and drive them; the rows of the run's pairs.csv."""
+    folder = os.path.join(out, f"seed_{seed}")
+    truth = os.path.join(folder, "scene")
+    subprocess.run([fieldlidar, "simulate", "--scene", "terrain", "--frames", "1", "--seed",
+                    str(seed), "--out", truth], check=True, stdout=subprocess.DEVNULL)
+    pairs = subprocess.run([sys.executable, os.path.join(HERE, "navigate_random_pairs.py"),
+                            os.path.join(truth, "terrain_truth.csv"), str(seed)],
+                           check=True, capture_output=True, text=True).stdout
+    pairs_file = os.path.join(folder, "pairs_in.csv")
+    with open(pairs_file, "w") as f:
+        f.write(pairs)
+    subprocess.run([fieldlidar, "navigate", "--seed", str(seed), "--pairs", pairs_file, "--out",
+                    os.path.join(folder, "runs")] + extra,
+                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    with open(os.path.join(folder, "runs", "pairs.csv")) as f:
+        return [dict(row, seed=seed) for row in csv.DictReader(f)]
+
+
+def summary(rows):
+    name = lambda r: f"s{r['seed']}{r['pair']}"
+    reach = [r for r in rows if float(r["truth_plan_m"] or "nan") > 0]
+    unreach = [r for r in rows if r not in reach]
+    arrived = [r for r in reach if r["outcome"] == "arrived"]
+    ratios = [float(r["ratio"]) for r in arrived]
+    touched = [r for r in rows if int(r["frames_on_impassable"]) > 0]
+    deep = [r for r in touched if float(r["max_impassable_depth_m"]) >= 0.1]
+    lines = [
+        f"{len(rows)} pairs; {len(arrived)} of {len(reach)} goals the truth plan reaches arrived "
+        f"(not: {' '.join(name(r) + '/' + r['outcome'] for r in reach if r not in arrived)})",
+        f"  driven / truth plan: mean {sum(ratios) / max(1, len(ratios)):.3f}, "
+        f"{sum(x > 1.15 for x in ratios)} over 1.15, largest {max(ratios, default=0):.3f}",
+        f"  {len(touched)} drives with the footprint on truth-impassable cells "
+        f"({sum(int(r['frames_on_impassable']) for r in touched)} frames), {len(deep)} of them "
+        f"0.10 m or more into such a cell: "
+        + " ".join(f"{name(r)}:{r['frames_on_impassable']}/{float(r['max_impassable_depth_m']):.2f}"
+                   for r in touched),
+        f"  {sum(r['outcome'] == 'unreachable' for r in unreach)} of {len(unreach)} goals the "
+        f"truth plan does not reach reported unreachable",
+    ]
+    return "\n".join(lines)
+
+
+def main():
+    argv = sys.argv[1:]
+    extra = argv[argv.index("--") + 1:] if "--" in argv else []
+    argv = argv[:argv.index("--")] if "--" in argv else argv
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("first", type=int)
+    ap.add_argument("last", type=int)
+    ap.add_argument("out")
+    ap.add_argument("--fieldlidar", default=os.path.join(HERE, "..", "build", "release", "apps",
+                                                         "fieldlidar", "fieldlidar"))
+    ap.add_argument("--jobs", type=int, default=2)
+    a = ap.parse_args(argv)
+    if a.last < a.first:
+        ap.error(f"LAST ({a.last}) is before FIRST ({a.first})")
+    if os.path.exists(a.out):
+        ap.error(f"{a.out} exists: choose a new folder")
+    if not os.access(a.fieldlidar, os.X_OK):
+        ap.error(f"no fieldlidar executable at {a.fieldlidar} (build it, or --fieldlidar PATH)")
+    os.makedirs(a.out)
+    seeds = list(range(a.first, a.last + 1))
+    rows = []
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
+        for k, seed_rows in enumerate(pool.map(
+                lambda s: run_seed(s, a.out, a.fieldlidar, extra), seeds)):
+            rows += seed_rows
+            print(f"seed {seeds[k]} done ({k + 1} of {len(seeds)})", file=sys.stderr)
+    text = summary(rows)
+    with open(os.path.join(a.out, "summary.txt"), "w") as f:
+        f.write(text + "\n")
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
