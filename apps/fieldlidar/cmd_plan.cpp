@@ -1,6 +1,6 @@
 // fieldlidar plan --map DIR --start x,y,yaw --goal x,y,yaw [--robot robot.yaml] --out DIR:
-// Hybrid A* (seed 004, step f) on a saved traversability map (nav2 YAML + PGM): path CSV,
-// GeoJSON, PNG and a summary.
+// Hybrid A* (seed 004, step f) on a saved traversability map (nav2 YAML + PGM, or the
+// traversability command's GeoTIFF layers): path CSV, GeoJSON, PNG and a summary.
 
 #include <cmath>
 #include <filesystem>
@@ -13,19 +13,18 @@
 #include "commands.hpp"
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/file_util.hpp"
-#include "fieldlidar/io/nav2_map.hpp"
 #include "fieldlidar/planning/hybrid_astar.hpp"
 #include "fieldlidar/planning/planner_for_robot.hpp"
 #include "fieldlidar/terrain/robot_config.hpp"
 #include "support/canvas.hpp"
 #include "support/option_checks.hpp"
+#include "support/plan_map.hpp"
 #include "support/planar_paths.hpp"
 
 namespace fieldlidar::app {
 namespace {
 
 namespace fs = std::filesystem;
-namespace L = terrain::layer;
 
 struct PlanOptions {
   std::string map, start, goal, out, robot;
@@ -33,18 +32,6 @@ struct PlanOptions {
   double budget_ms = 1000.0;
   bool allow_unknown = true, no_smooth = false, force = false;
 };
-
-fs::path map_yaml(const std::string& map) {
-  const fs::path p(map);
-  if (fs::is_directory(p)) {
-    if (fs::exists(p / "traversability.yaml")) return p / "traversability.yaml";
-    for (const auto& e : fs::directory_iterator(p))
-      if (e.path().extension() == ".yaml") return e.path();
-    throw Error("--map " + map + ": no .yaml map in the folder");
-  }
-  if (!fs::exists(p)) throw Error("--map " + map + ": no such file or folder");
-  return p;
-}
 
 std::string path_geojson(const planning::Path& path, const planning::Pose2& start,
                          const planning::Pose2& goal) {
@@ -100,17 +87,17 @@ void draw(const planning::PlanningMap& map, const planning::PlanResult& r,
 void run(const PlanOptions& o) {
   const planning::Pose2 start = parse_pose(o.start, "--start");
   const planning::Pose2 goal = parse_pose(o.goal, "--goal");
-  const fs::path yaml = map_yaml(o.map);
+  PlanMap read = read_plan_map(o.map);
   const fs::path out(o.out);
   if (fs::exists(out) && !fs::is_directory(out))
     throw Error("plan: --out " + o.out + " is not a folder");
   fs::create_directories(out);
   for (const char* n : {"path.csv", "path_raw.csv", "path.geojson", "plan.png", "summary.json"})
-    io::check_writable(out / n, o.force, {yaml});
+    io::check_writable(out / n, o.force, read.files);
 
   const terrain::RobotConfig robot =
       o.robot.empty() ? terrain::RobotConfig{} : terrain::load_robot_config(o.robot);
-  Grid2D map = io::read_nav2_map(yaml, L::kTraversability);
+  const Grid2D& map = read.grid;
   planning::PlannerConfig cfg = planning::planner_config_for(robot);
   if (o.radius_m > 0) cfg.min_turn_radius_m = o.radius_m;
   cfg.time_budget_ms = o.budget_ms;
@@ -120,7 +107,8 @@ void run(const PlanOptions& o) {
   const planning::PlanResult r = planner.plan(start, goal);
 
   nlohmann::json j;
-  j["map"] = yaml.string();
+  j["map"] = read.files.front().string();
+  j["map_format"] = read.format;
   j["status"] = planning::to_string(r.status);
   j["start"] = {start.x_m, start.y_m, start.yaw_rad};
   j["goal"] = {goal.x_m, goal.y_m, goal.yaw_rad};
@@ -151,9 +139,10 @@ void run(const PlanOptions& o) {
     io::write_file_atomic(out / "path.geojson", path_geojson(r.path, start, goal), o.force);
   }
   draw(planner.map(), r, start, goal,
-       fmt::format("{}: {} ({:.1f} m, {} expansions, {:.1f} ms)", yaml.filename().string(),
-                   planning::to_string(r.status), r.ok() ? planning::path_length_m(r.path) : 0.0,
-                   r.expansions, r.search_ms + r.shortcut_ms + r.smooth_ms),
+       fmt::format("{}: {} ({:.1f} m, {} expansions, {:.1f} ms)",
+                   read.files.front().filename().string(), planning::to_string(r.status),
+                   r.ok() ? planning::path_length_m(r.path) : 0.0, r.expansions,
+                   r.search_ms + r.shortcut_ms + r.smooth_ms),
        out / "plan.png", o.force);
   io::write_file_atomic(out / "summary.json", j.dump(1) + "\n", o.force);
   if (!r.ok())
@@ -163,8 +152,9 @@ void run(const PlanOptions& o) {
   fmt::print(
       "{}: path {:.1f} m, {} direction changes, {} expansions, {:.1f} ms search + {:.1f} "
       "ms shortcuts + {:.1f} ms smoothing -> {}\n",
-      yaml.string(), planning::path_length_m(r.path), planning::direction_changes(r.path),
-      r.expansions, r.search_ms, r.shortcut_ms, r.smooth_ms, out.string());
+      read.files.front().string(), planning::path_length_m(r.path),
+      planning::direction_changes(r.path), r.expansions, r.search_ms, r.shortcut_ms, r.smooth_ms,
+      out.string());
 }
 
 }  // namespace
@@ -172,8 +162,14 @@ void run(const PlanOptions& o) {
 void add_plan_command(CLI::App& app) {
   auto o = std::make_shared<PlanOptions>();
   auto* cmd = app.add_subcommand(
-      "plan", "Hybrid A* path on a saved traversability map (nav2 YAML + PGM): CSV, GeoJSON, PNG");
-  cmd->add_option("--map", o->map, "Map folder (traversability.yaml) or a nav2 map .yaml")
+      "plan",
+      "Hybrid A* path on a saved traversability map (nav2 YAML + PGM, or the traversability "
+      "command's GeoTIFF layers): CSV, GeoJSON, PNG");
+  cmd->add_option("--map", o->map,
+                  "A nav2 map .yaml or a folder holding one (traversability.yaml), or the "
+                  "traversability command's GeoTIFF layers: its DIR/layers folder or "
+                  "traversability.tif (full-precision tau; impassable.tif and points.tif beside "
+                  "it are read too)")
       ->required();
   cmd->add_option("--start", o->start, "Start pose x,y,yaw (m, m, rad; map frame)")->required();
   cmd->add_option("--goal", o->goal, "Goal pose x,y,yaw (m, m, rad; map frame)")->required();

@@ -1,5 +1,6 @@
 // End-to-end: fieldlidar plan on a saved nav2 map with a wall: a path round it (CSV, GeoJSON,
-// PNG, summary), and the typed failure of a goal in the wall.
+// PNG, summary), and the typed failure of a goal in the wall; the same map as the traversability
+// command's GeoTIFF layers.
 
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fieldlidar/io/file_util.hpp"
+#include "fieldlidar/io/geotiff.hpp"
 #include "fieldlidar/io/nav2_map.hpp"
 #include "run_cli.hpp"
 #include "test_data.hpp"
@@ -76,6 +78,54 @@ TEST(CliPlan, PathRoundAWallAndATypedFailure) {
 
 // --robot: the robot YAML's min_turn_radius_m is the plan's R_min (--radius still overrides it),
 // and an absurd one is refused naming the field.
+// The wall map as GeoTIFF layers (traversability.tif, impassable.tif, a slope layer beside them),
+// as the traversability command writes them into DIR/layers: planned alike; a layer that is not
+// the traversability, or an impassable layer on other cells, is an error naming the file.
+TEST(CliPlan, GeoTiffLayersArePlannedOn) {
+  const auto dir = temp_dir("cli_plan_layers");
+  GridGeometry g;
+  g.resolution_m = 0.5;
+  g.width = 60;
+  g.height = 40;
+  Grid2D grid(g);
+  auto tau = grid.add_layer("traversability", 1.0f);
+  auto imp = grid.add_layer("impassable", 0.0f);
+  grid.add_layer("slope_deg", 2.0f);
+  for (int iy = 0; iy < 28; ++iy)
+    for (int ix = 28; ix < 32; ++ix)
+      tau[g.linear_index(ix, iy)] = 0.0f, imp[g.linear_index(ix, iy)] = 1.0f;
+  fs::create_directories(dir / "layers");
+  for (const char* n : {"traversability", "impassable", "slope_deg"})
+    io::write_file_atomic(dir / "layers" / (std::string(n) + ".tif"), io::encode_geotiff(grid, n),
+                          true);
+  const std::string poses = " --start 5,5,0 --goal 25,5,0 --out ";
+  const auto r = run_cli("plan --map " + quoted(dir / "layers") + poses + quoted(dir / "a"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(slurp_file(dir / "a" / "summary.json"));
+  EXPECT_EQ(j["map_format"], "geotiff");
+  EXPECT_EQ(j["status"], "success");
+  EXPECT_GT(j["length_m"].get<double>(), 27.3);  // round the wall, as on the nav2 map
+  EXPECT_LT(j["length_m"].get<double>(), 34.0);
+
+  const auto slope =
+      run_cli("plan --map " + quoted(dir / "layers" / "slope_deg.tif") + poses + quoted(dir / "b"));
+  EXPECT_EQ(slope.exit_code, 1);
+  EXPECT_NE(slope.output.find("holds the layer 'slope_deg', not 'traversability'"),
+            std::string::npos)
+      << slope.output;
+
+  GridGeometry other = g;
+  other.width = 30;
+  Grid2D small(other);
+  small.add_layer("impassable", 0.0f);
+  io::write_file_atomic(dir / "layers" / "impassable.tif", io::encode_geotiff(small, "impassable"),
+                        true);
+  const auto differ = run_cli("plan --map " + quoted(dir / "layers") + poses + quoted(dir / "c"));
+  EXPECT_EQ(differ.exit_code, 1);
+  EXPECT_NE(differ.output.find("impassable.tif: its cells differ"), std::string::npos)
+      << differ.output;
+}
+
 TEST(CliPlan, TurningRadiusFromTheRobotYaml) {
   const auto dir = temp_dir("cli_plan_robot");
   write_map(dir / "map");
