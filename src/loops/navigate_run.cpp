@@ -115,9 +115,8 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
     }
     row.footprint_on_impassable = on_truth_impassable(pose_);
     r_.frames_on_impassable += row.footprint_on_impassable;
-    if (row.footprint_on_impassable)
-      r_.max_impassable_depth_m =
-          std::max(r_.max_impassable_depth_m, truth_impassable_depth_m(pose_));
+    if (row.footprint_on_impassable) row.impassable_depth_m = truth_impassable_depth_m(pose_);
+    r_.max_impassable_depth_m = std::max(r_.max_impassable_depth_m, row.impassable_depth_m);
     row.state = state_;
     row.replans = r_.replans;
     r_.rows.push_back(row);

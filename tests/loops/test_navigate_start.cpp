@@ -2,6 +2,7 @@
 // LiDAR's blind disk into the map before the first plan (NavigateConfig::approach_m), and a pose
 // the planner calls in collision is left by the shortest move the step check allows
 // (escape_path).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -52,6 +53,14 @@ TEST(NavigateStart, ApproachSweepsShowARockInTheBlindDisk) {
         approach, loops::to_string(r.outcome), r.reason.c_str(), r.approach_sweeps, r.length_ratio,
         r.frames_on_impassable, r.max_impassable_depth_m, r.wall_s);
     EXPECT_EQ(r.max_impassable_depth_m > 0.0, r.frames_on_impassable > 0u);
+    double deepest_row = 0.0;  // the log's rows carry the depth of each period
+    for (const auto& row : r.rows) {
+      if (!row.footprint_on_impassable) {
+        EXPECT_EQ(row.impassable_depth_m, 0.0);
+      }
+      deepest_row = std::max(deepest_row, row.impassable_depth_m);
+    }
+    EXPECT_EQ(deepest_row, r.max_impassable_depth_m);
     if (approach == 0.0) {
       EXPECT_EQ(r.approach_sweeps, 0u);
       EXPECT_GT(r.frames_on_impassable, 0u);

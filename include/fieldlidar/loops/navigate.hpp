@@ -206,6 +206,7 @@ struct NavigateLogRow {
   int cell_ix = -1, cell_iy = -1;        ///< truth cell under the robot's centre
   int cell_passable = -1;                ///< its truth: 1 passable, 0 impassable, -1 off the map
   bool footprint_on_impassable = false;  ///< the exact footprint overlaps a truth-impassable cell
+  double impassable_depth_m = 0;  ///< how far into it (NavigateResult::max_impassable_depth_m)
   NavigateState state = NavigateState::kPlanning;
   int replans = 0;
 };
