@@ -43,7 +43,7 @@ struct TrainOptions {
   bool classifier = true;
   int rounds = 200;
   std::vector<std::string> exclude_features;
-  people::SegmentAugmentationConfig augment;  // off: measured not to help (README)
+  people::SegmentAugmentationConfig augment;  // off: measured not to help (docs/people.md)
 };
 
 /// Simulated people: lawn sweeps from a still sensor with the operator and strollers walking.

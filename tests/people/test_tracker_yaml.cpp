@@ -70,7 +70,7 @@ TEST(TrackerYaml, BadSettingsNameTheFileAndTheKey) {
 }
 
 // The shipped 2D config states the tracker settings the 2D pipeline runs with, so a user who
-// copies it starts from what is measured in the README.
+// copies it starts from what is measured in docs/people.md.
 TEST(TrackerYaml, ShippedConfigStatesThePipelineDefaults) {
   std::ifstream in(std::string(FIELDLIDAR_CONFIG_DIR) + "/legs_2d.yaml");
   ASSERT_TRUE(in.good());

@@ -5,9 +5,9 @@
 /// width; legs seen farther, narrower or with fewer points than those are otherwise outside what
 /// the classifier has learned (its range and point-count features then reject them).
 ///
-/// Measured on ../shared/data (`legs-train --augment N`, README): it does not pay on the shared
-/// bags, so legs-train leaves it off. With 2 copies (range x 1..2.5, width x 0.7..0.9, 0.01 m
-/// noise) negative_2.bag's false legs rise from 0.56 / 0.92 / 0.69 to 2.9 / 3.3 / 3.3 per scan
+/// Measured on ../shared/data (`legs-train --augment N`, docs/people.md): it does not pay on the
+/// shared bags, so legs-train leaves it off. With 2 copies (range x 1..2.5, width x 0.7..0.9, 0.01
+/// m noise) negative_2.bag's false legs rise from 0.56 / 0.92 / 0.69 to 2.9 / 3.3 / 3.3 per scan
 /// (most beyond 5 m, where no annotated leg lies and the unaugmented classifier's first stump,
 /// range_m > 5.1, rejects everything); kept within 5 m, 1.0 / 1.36 / 1.31 with false persons
 /// 0 / 0.007 / 0.012 per scan, while the moving-robot bag gains little (MOTA 0.008 -> 0.030,
