@@ -42,15 +42,16 @@ def run_seed(seed, out, fieldlidar, extra):
 
 def summary(rows):
     name = lambda r: f"s{r['seed']}{r['pair']}"
-    reach = [r for r in rows if float(r["truth_plan_m"] or "nan") > 0]
-    unreach = [r for r in rows if r not in reach]
+    reachable = lambda r: float(r["truth_plan_m"] or "nan") > 0  # the truth plan found a path
+    reach = [r for r in rows if reachable(r)]
+    unreach = [r for r in rows if not reachable(r)]
     arrived = [r for r in reach if r["outcome"] == "arrived"]
     ratios = [float(r["ratio"]) for r in arrived]
     touched = [r for r in rows if int(r["frames_on_impassable"]) > 0]
     deep = [r for r in touched if float(r["max_impassable_depth_m"]) >= 0.1]
     lines = [
         f"{len(rows)} pairs; {len(arrived)} of {len(reach)} goals the truth plan reaches arrived "
-        f"(not: {' '.join(name(r) + '/' + r['outcome'] for r in reach if r not in arrived)})",
+        f"(not: {' '.join(name(r) + '/' + r['outcome'] for r in reach if r['outcome'] != 'arrived')})",
         f"  driven / truth plan: mean {sum(ratios) / max(1, len(ratios)):.3f}, "
         f"{sum(x > 1.15 for x in ratios)} over 1.15, largest {max(ratios, default=0):.3f}",
         f"  {len(touched)} drives with the footprint on truth-impassable cells "

@@ -64,8 +64,11 @@ class Loop {
   /// True when the next pose's footprint would enter a cell the map knows to be impassable that
   /// the robot does not already stand on.
   bool enters_known_blocked(const Pose2& next) const;
-  bool on_truth_impassable(const Pose2& pose) const;
-  /// NavigateResult::max_impassable_depth_m at one pose.
+  /// The footprint at `pose`, shrunk by `shrink_m` on every side, overlaps a truth-impassable
+  /// cell (or leaves the area).
+  bool on_truth_impassable(const Pose2& pose, double shrink_m = 0.0) const;
+  /// NavigateResult::max_impassable_depth_m at a pose whose footprint is on a truth-impassable
+  /// cell (on_truth_impassable).
   double truth_impassable_depth_m(const Pose2& pose) const;
   void finish(NavigateOutcome outcome, std::string reason, NavigateState state) {
     r_.outcome = outcome;

@@ -38,23 +38,18 @@ bool Loop::enters_known_blocked(const Pose2& next) const {
                                   robot_);
 }
 
-bool Loop::on_truth_impassable(const Pose2& pose) const {
-  for (long c : footprint_cells(area_, pose, robot_))
+bool Loop::on_truth_impassable(const Pose2& pose, double shrink_m) const {
+  for (long c : planning::rectangle_cells(area_, pose, 0.5 * robot_.length_m - shrink_m,
+                                          0.5 * robot_.width_m - shrink_m))
     if (c < 0 || truth_blocked_[std::size_t(c)]) return true;
   return false;
 }
 
 double Loop::truth_impassable_depth_m(const Pose2& pose) const {
-  const auto reaches = [&](double d) {
-    for (long c : planning::rectangle_cells(area_, pose, 0.5 * robot_.length_m - d,
-                                            0.5 * robot_.width_m - d))
-      if (c < 0 || truth_blocked_[std::size_t(c)]) return true;
-    return false;
-  };
-  if (!reaches(0.0)) return 0.0;
-  int cm = 0;  // reaches(cm / 100) holds; the footprint's half width bounds it
+  int cm = 0;  // on_truth_impassable(pose, cm / 100) holds; the footprint's half width bounds it
   for (int step = 32; step > 0; step /= 2)
-    if (cm + step < int(50.0 * robot_.width_m) && reaches((cm + step) / 100.0)) cm += step;
+    if (cm + step < int(50.0 * robot_.width_m) && on_truth_impassable(pose, (cm + step) / 100.0))
+      cm += step;
   return cm / 100.0;
 }
 

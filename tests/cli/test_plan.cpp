@@ -27,17 +27,25 @@ std::string slurp_file(const fs::path& p) {
   return {std::istreambuf_iterator<char>(f), {}};
 }
 
-// 30 x 20 m of 0.5 m cells, free, with a wall x in [14, 16], y < 14 m.
-void write_map(const fs::path& dir) {
+// 30 x 20 m of 0.5 m cells, free, with a wall x in [14, 16], y < 14 m: layers traversability
+// (0 on the wall) and impassable (1 on the wall).
+Grid2D wall_map() {
   GridGeometry g;
   g.resolution_m = 0.5;
   g.width = 60;
   g.height = 40;
   Grid2D grid(g);
-  auto tau = grid.add_layer("tau", 1.0f);
+  auto tau = grid.add_layer("traversability", 1.0f);
+  auto imp = grid.add_layer("impassable", 0.0f);
   for (int iy = 0; iy < 28; ++iy)
-    for (int ix = 28; ix < 32; ++ix) tau[g.linear_index(ix, iy)] = 0.0f;
-  const io::Nav2Map m = io::encode_nav2_map(grid, "tau", "traversability.pgm");
+    for (int ix = 28; ix < 32; ++ix)
+      tau[g.linear_index(ix, iy)] = 0.0f, imp[g.linear_index(ix, iy)] = 1.0f;
+  return grid;
+}
+
+// The wall map as a nav2 map_server map.
+void write_map(const fs::path& dir) {
+  const io::Nav2Map m = io::encode_nav2_map(wall_map(), "traversability", "traversability.pgm");
   fs::create_directories(dir);
   io::write_file_atomic(dir / "traversability.pgm", m.pgm, true);
   io::write_file_atomic(dir / "traversability.yaml", m.yaml, true);
@@ -83,17 +91,8 @@ TEST(CliPlan, PathRoundAWallAndATypedFailure) {
 // the traversability, or an impassable layer on other cells, is an error naming the file.
 TEST(CliPlan, GeoTiffLayersArePlannedOn) {
   const auto dir = temp_dir("cli_plan_layers");
-  GridGeometry g;
-  g.resolution_m = 0.5;
-  g.width = 60;
-  g.height = 40;
-  Grid2D grid(g);
-  auto tau = grid.add_layer("traversability", 1.0f);
-  auto imp = grid.add_layer("impassable", 0.0f);
+  Grid2D grid = wall_map();
   grid.add_layer("slope_deg", 2.0f);
-  for (int iy = 0; iy < 28; ++iy)
-    for (int ix = 28; ix < 32; ++ix)
-      tau[g.linear_index(ix, iy)] = 0.0f, imp[g.linear_index(ix, iy)] = 1.0f;
   fs::create_directories(dir / "layers");
   for (const char* n : {"traversability", "impassable", "slope_deg"})
     io::write_file_atomic(dir / "layers" / (std::string(n) + ".tif"), io::encode_geotiff(grid, n),
@@ -114,7 +113,7 @@ TEST(CliPlan, GeoTiffLayersArePlannedOn) {
             std::string::npos)
       << slope.output;
 
-  GridGeometry other = g;
+  GridGeometry other = grid.geometry();
   other.width = 30;
   Grid2D small(other);
   small.add_layer("impassable", 0.0f);

@@ -42,25 +42,25 @@ PlanMap read_layers(const fs::path& tau_file) {
   return out;
 }
 
+PlanMap read_nav2(const fs::path& yaml) {
+  return {io::read_nav2_map(yaml, L::kTraversability), "nav2", {yaml}};
+}
+
 }  // namespace
 
 PlanMap read_plan_map(const std::string& map) {
   const fs::path p(map);
   if (!fs::exists(p)) throw Error("--map " + map + ": no such file or folder");
   if (fs::is_directory(p)) {
-    if (fs::exists(p / "traversability.yaml")) {
-      const fs::path yaml = p / "traversability.yaml";
-      return {io::read_nav2_map(yaml, L::kTraversability), "nav2", {yaml}};
-    }
+    if (fs::exists(p / "traversability.yaml")) return read_nav2(p / "traversability.yaml");
     if (fs::exists(p / "traversability.tif")) return read_layers(p / "traversability.tif");
     for (const auto& e : fs::directory_iterator(p))
-      if (e.path().extension() == ".yaml")
-        return {io::read_nav2_map(e.path(), L::kTraversability), "nav2", {e.path()}};
+      if (e.path().extension() == ".yaml") return read_nav2(e.path());
     throw Error("--map " + map + ": no nav2 map (.yaml) nor traversability.tif in the folder");
   }
   const std::string ext = p.extension().string();
   if (ext == ".tif" || ext == ".tiff") return read_layers(p);
-  return {io::read_nav2_map(p, L::kTraversability), "nav2", {p}};
+  return read_nav2(p);
 }
 
 }  // namespace fieldlidar::app
