@@ -178,7 +178,7 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
   s.open = {};
   const auto th = Clock::now();
   const auto deadline = t0 + std::chrono::microseconds(long(c.time_budget_ms * 1000.0));
-  s.heuristic.reset(map_, goal_cell, c.tau_weight, c.heuristic_downsample);
+  s.heuristic.reset(map_, goal_cell, start_cell, c.tau_weight, c.heuristic_downsample);
   // h without the Reeds–Shepp term (the larger of the straight line and the obstacle-aware cost)
   auto heuristic = [&](const Pose2& p, long cell) {
     const auto t = Clock::now();
@@ -239,7 +239,10 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
     if (s.nodes[idx].rs_pending) {
       auto& node = s.nodes[idx];
       node.rs_pending = false;
-      const double rs = reeds_shepp_length_m(node.pose, goal, R);
+      // the solver only when its cheap upper bound could raise h
+      const double rs = reeds_shepp_upper_bound_m(node.pose, goal, R) <= node.h
+                            ? node.h
+                            : reeds_shepp_length_m(node.pose, goal, R);
       if (rs > node.h) {
         node.h = rs;
         s.open.push({node.g + c.heuristic_weight * node.h - 1e-6 * node.g, idx});

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numbers>
 
 namespace fieldlidar::planning {
 
@@ -62,8 +63,9 @@ std::vector<std::uint8_t> centre_blocked_cells(const PlanningMap& map, double ra
   return out;
 }
 
-void ObstacleHeuristic::push(float d, std::uint32_t i) {
-  const std::uint32_t key = std::bit_cast<std::uint32_t>(d);  // monotone for d >= 0
+void ObstacleHeuristic::push(float key_m, std::uint32_t i) {
+  // monotone for d >= 0; a key rounded below the last popped one is taken as equal to it
+  const std::uint32_t key = std::max(std::bit_cast<std::uint32_t>(key_m), last_key_);
   buckets_[std::bit_width(key ^ last_key_)].push_back((std::uint64_t(key) << 32) | i);
   ++queued_;
 }
@@ -86,8 +88,16 @@ bool ObstacleHeuristic::pop(std::uint32_t* cell) {
   return true;
 }
 
-void ObstacleHeuristic::reset(const PlanningMap& map, long goal_cell, double tau_weight,
-                              int downsample) {
+float ObstacleHeuristic::focus_distance(long x, long y) const {
+  if (focus_x_ < 0) return 0.0f;
+  const long dx = std::abs(x - focus_x_), dy = std::abs(y - focus_y_);
+  // octile distance: the shortest 8-connected path on an open grid; less a float's rounding
+  return float(double(std::max(dx, dy)) + (std::numbers::sqrt2 - 1.0) * double(std::min(dx, dy))) *
+         float(coarse_res_m_) * min_mult_ * 0.99999f;
+}
+
+void ObstacleHeuristic::reset(const PlanningMap& map, long goal_cell, long focus_cell,
+                              double tau_weight, int downsample) {
   const GridGeometry& g = map.geometry();
   const int f = std::max(1, downsample);
   if (&map != map_ || f != factor_ || tau_weight != tau_weight_) {
@@ -113,6 +123,10 @@ void ObstacleHeuristic::reset(const PlanningMap& map, long goal_cell, double tau
         half_mult_[c] =
             std::min(half_mult_[c], 0.5f * (1.0f + float(tau_weight) * (1.0f - map.tau(i))));
       }
+    min_mult_ = std::numeric_limits<float>::infinity();
+    for (std::size_t c = 0; c < n; ++c)
+      if (!blocked_[c]) min_mult_ = std::min(min_mult_, 2.0f * half_mult_[c]);
+    if (!std::isfinite(min_mult_)) min_mult_ = 1.0f;
     dist_.assign(n, std::numeric_limits<float>::infinity());
   } else {
     std::fill(dist_.begin(), dist_.end(), std::numeric_limits<float>::infinity());
@@ -122,10 +136,13 @@ void ObstacleHeuristic::reset(const PlanningMap& map, long goal_cell, double tau
   last_key_ = 0;
   queued_ = 0;
   settled_count_ = 0;
+  const long fc = coarse_of(focus_cell);
+  focus_x_ = fc < 0 ? -1 : fc % pw_;
+  focus_y_ = fc < 0 ? -1 : fc / pw_;
   const long c = coarse_of(goal_cell);
   if (c < 0 || blocked_[std::size_t(c)]) return;
   dist_[std::size_t(c)] = 0.0f;
-  push(0.0f, std::uint32_t(c));
+  push(focus_distance(c % pw_, c / pw_), std::uint32_t(c));
 }
 
 long ObstacleHeuristic::coarse_of(long cell) const {
@@ -144,6 +161,7 @@ double ObstacleHeuristic::cost_m(long cell, std::chrono::steady_clock::time_poin
   const long pw = pw_;
   const long offsets[8] = {1, -1, pw, -pw, pw + 1, pw - 1, -pw + 1, -pw - 1};
   const float lengths[8] = {res, res, res, res, diag, diag, diag, diag};
+  const long dxs[8] = {1, -1, 0, 0, 1, -1, 1, -1}, dys[8] = {0, 0, 1, -1, 1, 1, -1, -1};
   int since_clock = 0;
   std::uint32_t top = 0;
   while (!(closed_[target] && dist_[target] < std::numeric_limits<float>::infinity()) &&
@@ -159,13 +177,14 @@ double ObstacleHeuristic::cost_m(long cell, std::chrono::steady_clock::time_poin
     ++settled_count_;
     const float d = dist_[i];
     const float hm = half_mult_[i];
+    const long x = long(i) % pw, y = long(i) / pw;
     for (int k = 0; k < 8; ++k) {
       const std::size_t j = std::size_t(long(i) + offsets[k]);
       if (closed_[j]) continue;
       const float nd = d + lengths[k] * (hm + half_mult_[j]);
       if (nd < dist_[j]) {
         dist_[j] = nd;
-        push(nd, std::uint32_t(j));
+        push(nd + focus_distance(x + dxs[k], y + dys[k]), std::uint32_t(j));
       }
     }
   }

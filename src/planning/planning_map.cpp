@@ -101,6 +101,11 @@ void PlanningMap::build_masks() {
                            reach_cells_ = std::max({reach_cells_, std::abs(dx), std::abs(dy)});
                          });
       }
+  linear_masks_.clear();
+  for (const auto& mask : masks_) {
+    auto& linear = linear_masks_.emplace_back();
+    for (const Offset& o : mask) linear.push_back(std::int32_t(o.dy) * geometry_.width + o.dx);
+  }
 }
 
 long PlanningMap::cell_index(double x_m, double y_m) const {
@@ -121,13 +126,18 @@ bool PlanningMap::pose_free(const Pose2& pose) const {
   const double bin = 2.0 * std::numbers::pi / kFootprintHeadingBins;
   int b = int(std::lround(pose.yaw_rad / bin)) % kFootprintHeadingBins;
   if (b < 0) b += kFootprintHeadingBins;
-  const auto& mask = masks_[(std::size_t(b) * kSubcells + sy) * kSubcells + sx];
-  const bool inside = ix >= reach_cells_ && iy >= reach_cells_ &&
-                      ix + reach_cells_ < geometry_.width && iy + reach_cells_ < geometry_.height;
-  for (const Offset& o : mask) {
+  const std::size_t m = (std::size_t(b) * kSubcells + sy) * kSubcells + sx;
+  if (ix >= reach_cells_ && iy >= reach_cells_ && ix + reach_cells_ < geometry_.width &&
+      iy + reach_cells_ < geometry_.height) {
+    const std::uint8_t* at = blocked_.data() + std::size_t(iy) * geometry_.width + ix;
+    for (std::int32_t o : linear_masks_[m])
+      if (at[o]) return false;
+    return true;
+  }
+  for (const Offset& o : masks_[m]) {
     const int cx = ix + o.dx, cy = iy + o.dy;
-    if (!inside && !geometry_.contains(cx, cy)) return false;
-    if (blocked_[std::size_t(cy) * geometry_.width + cx]) return false;
+    if (!geometry_.contains(cx, cy) || blocked_[std::size_t(cy) * geometry_.width + cx])
+      return false;
   }
   return true;
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <ompl/base/ScopedState.h>
 #include <ompl/base/spaces/ReedsSheppStateSpace.h>
@@ -78,6 +79,30 @@ RsCurve reeds_shepp(const Pose2& from, const Pose2& to, double radius_m) {
 
 double reeds_shepp_length_m(const Pose2& from, const Pose2& to, double radius_m) {
   return reeds_shepp(from, to, radius_m).length_m;
+}
+
+double reeds_shepp_upper_bound_m(const Pose2& from, const Pose2& to, double radius_m) {
+  const double two_pi = 2.0 * std::numbers::pi;
+  auto ccw = [two_pi](double a) {  // a turned anticlockwise into [0, 2 pi)
+    a = std::fmod(a, two_pi);
+    return a < 0.0 ? a + two_pi : a;
+  };
+  // Turn, straight, turn the same way (Dubins' LSL and RSR), driven forwards from `a` to `b`:
+  // the centres of the two turning circles on the side `side` (+1 left, -1 right).
+  auto csc = [&](const Pose2& a, const Pose2& b, double side) {
+    const double r = radius_m * side;
+    const double ax = a.x_m - r * std::sin(a.yaw_rad), ay = a.y_m + r * std::cos(a.yaw_rad);
+    const double bx = b.x_m - r * std::sin(b.yaw_rad), by = b.y_m + r * std::cos(b.yaw_rad);
+    const double straight = std::hypot(bx - ax, by - ay);
+    const double heading = straight > 0.0 ? std::atan2(by - ay, bx - ax) : a.yaw_rad;
+    return straight + radius_m * (ccw(side * (heading - a.yaw_rad)) +
+                                  ccw(side * (b.yaw_rad - heading)));
+  };
+  // Backwards: the same curves with both poses turned round, driven in reverse.
+  const Pose2 back_from{from.x_m, from.y_m, from.yaw_rad + std::numbers::pi};
+  const Pose2 back_to{to.x_m, to.y_m, to.yaw_rad + std::numbers::pi};
+  return std::min({csc(from, to, 1.0), csc(from, to, -1.0), csc(back_from, back_to, 1.0),
+                   csc(back_from, back_to, -1.0)});
 }
 
 Pose2 rs_pose_at(const Pose2& from, const RsCurve& curve, double radius_m, double s_m) {

@@ -71,6 +71,8 @@ class PlanningMap {
   std::vector<float> distance_m_;
   std::size_t known_cells_ = 0;
   std::vector<std::vector<Offset>> masks_;  ///< [(bin * kSubcells + sy) * kSubcells + sx]
+  /// The same cells as offsets of the linear index (for poses whose mask lies on the map)
+  std::vector<std::vector<std::int32_t>> linear_masks_;
   int reach_cells_ = 0;                     ///< largest |dx|, |dy| of any mask
 };
 

@@ -28,6 +28,11 @@ RsCurve reeds_shepp(const Pose2& from, const Pose2& to, double radius_m);
 /// Its length (m) alone.
 double reeds_shepp_length_m(const Pose2& from, const Pose2& to, double radius_m);
 
+/// An upper bound of reeds_shepp_length_m at a fraction of its cost: the shortest of the
+/// turn-straight-turn curves with both turns the same way, forwards or backwards (four of the
+/// 48 Reeds–Shepp words), which are Reeds–Shepp curves themselves.
+double reeds_shepp_upper_bound_m(const Pose2& from, const Pose2& to, double radius_m);
+
 /// The pose reached after driving `s_m` (0 <= s_m <= curve.length_m) along the curve from `from`.
 Pose2 rs_pose_at(const Pose2& from, const RsCurve& curve, double radius_m, double s_m);
 
