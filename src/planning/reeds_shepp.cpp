@@ -95,8 +95,8 @@ double reeds_shepp_upper_bound_m(const Pose2& from, const Pose2& to, double radi
     const double bx = b.x_m - r * std::sin(b.yaw_rad), by = b.y_m + r * std::cos(b.yaw_rad);
     const double straight = std::hypot(bx - ax, by - ay);
     const double heading = straight > 0.0 ? std::atan2(by - ay, bx - ax) : a.yaw_rad;
-    return straight + radius_m * (ccw(side * (heading - a.yaw_rad)) +
-                                  ccw(side * (b.yaw_rad - heading)));
+    return straight +
+           radius_m * (ccw(side * (heading - a.yaw_rad)) + ccw(side * (b.yaw_rad - heading)));
   };
   // Backwards: the same curves with both poses turned round, driven in reverse.
   const Pose2 back_from{from.x_m, from.y_m, from.yaw_rad + std::numbers::pi};

@@ -73,7 +73,7 @@ class PlanningMap {
   std::vector<std::vector<Offset>> masks_;  ///< [(bin * kSubcells + sy) * kSubcells + sx]
   /// The same cells as offsets of the linear index (for poses whose mask lies on the map)
   std::vector<std::vector<std::int32_t>> linear_masks_;
-  int reach_cells_ = 0;                     ///< largest |dx|, |dy| of any mask
+  int reach_cells_ = 0;  ///< largest |dx|, |dy| of any mask
 };
 
 /// Cells of `geometry` that the oriented rectangle (half sizes, m) at `pose` overlaps (separating
