@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -41,9 +42,19 @@ namespace fs = std::filesystem;
 
 struct TraversabilityOptions {
   std::string input, out, sensor, mode = "trinary", poses, robot;
-  double cell_m = 0;  ///< 0: 0.5 m for a sweep, from the point density for a survey
+  double cell_m = 0;       ///< 0: 0.5 m for a sweep, from the point density for a survey
+  double min_range_m = 0;  ///< returns nearer the sensor are dropped (the robot's body); 0: none
   bool force = false;
 };
+
+// The cloud without its returns nearer than `min_range_m` to the sensor (3D range).
+void drop_near(PointCloud& cloud, double min_range_m) {
+  if (min_range_m <= 0.0) return;
+  const auto keep = std::make_unique<bool[]>(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    keep[i] = cloud.points[i].xyz().cast<double>().norm() >= min_range_m;
+  cloud = select(cloud, std::span<const bool>(keep.get(), cloud.size()));
+}
 
 // A survey's cell holds about 8 returns on average (an airborne tile of ~1 point/m2 gets ~3 m
 // cells, where 0.5 m cells would be nearly all unknown), never below `least_m`, in 0.5 m steps.
@@ -131,6 +142,7 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
   };
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
+    drop_near(cloud, o.min_range_m);
     if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
     if (!sensor) {
       sensor = source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
@@ -231,6 +243,15 @@ void run(const TraversabilityOptions& o) {
                   " points): nothing to map");
     const segmentation::SweepCheck check = segmentation::check_sweep(cloud);
     const bool sweep = check.sweep || !o.sensor.empty();
+    if (!sweep && o.min_range_m > 0.0)
+      throw Error(
+          fmt::format("--min-range: {} is not one sensor sweep ({}), so it has no sensor "
+                      "to measure ranges from (give --sensor for a sweep)",
+                      o.input, check.reason));
+    drop_near(cloud, o.min_range_m);
+    if (cloud.valid_count() == 0)
+      throw Error(fmt::format("{}: no valid point beyond --min-range {} m: nothing to map", o.input,
+                              o.min_range_m));
     cfg.cell_m = o.cell_m > 0 ? o.cell_m : sweep ? cfg.cell_m : survey_cell_m(cloud, cfg.cell_m);
     if (sweep) {
       const SensorModel sensor = sensor_for(cloud, o.input, o.sensor);
@@ -285,6 +306,7 @@ void run(const TraversabilityOptions& o) {
     ++known;
     if (impassable[i] > 0.5f || !(tau[i] > 0.0f)) ++blocked;
   }
+  j["min_range_m"] = o.min_range_m;
   j["robot"] = {{"length_m", cfg.robot.length_m},
                 {"width_m", cfg.robot.width_m},
                 {"max_slope_deg", cfg.robot.max_slope_deg},
@@ -344,6 +366,12 @@ void add_traversability_command(CLI::App& app) {
                   "Map cell side (m); default 0.5 for a sweep, from the point density for a "
                   "survey")
       ->check(real_in(0.1, 10.0));
+  cmd->add_option("--min-range", o->min_range_m,
+                  "Returns nearer than this to the sensor are dropped before mapping (m, 3D "
+                  "range): the robot's own body, which would block the cells it stands on "
+                  "(RELLIS-3D's vehicle: 2.3 m); a sweep or a sequence only; 0: keep all")
+      ->capture_default_str()
+      ->check(real_in(0.0, 50.0));
   cmd->add_flag("-f,--force", o->force, "Replace existing output files");
   cmd->callback([o] { run(*o); });
 }

@@ -197,5 +197,36 @@ TEST(CliTraversability, AirborneSurveyIsMappedAsAnArea) {
   EXPECT_NEAR(j["origin_m"][1].get<double>(), 5274357.1, 1.0);
 }
 
+// A real sweep from a vehicle whose body the sensor sees (RELLIS-3D: 15k returns labelled void
+// within 2.2 m): they block the cells under the vehicle, so no plan can start there, until
+// --min-range drops them. A survey has no sensor to measure ranges from: refused.
+TEST(CliTraversability, MinRangeDropsTheVehiclesOwnBody) {
+  FIELDLIDAR_REQUIRE_DATA("rellis3d/000001.bin");
+  const auto dir = temp_dir("cli_traversability_min_range");
+  const std::string scan = quoted(data_file("rellis3d/000001.bin"));
+  for (const char* range : {"0", "2.3"}) {
+    const fs::path out = dir / (std::string("range_") + range);
+    const auto r = run_cli(args({"traversability", scan, "--sensor", "os1-64", "--min-range", range,
+                                 "--out", quoted(out)}));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto j = check_outputs(out);
+    EXPECT_DOUBLE_EQ(j["min_range_m"].get<double>(), std::stod(range));
+    const auto plan = run_cli(args({"plan", "--map", quoted(out / "layers"), "--start", "0,0,0",
+                                    "--goal", "24,0,0", "--out", quoted(dir / "plan"), "--force"}));
+    if (std::string(range) == "0") {
+      EXPECT_NE(plan.exit_code, 0) << plan.output;
+      EXPECT_NE(plan.output.find("start_in_collision"), std::string::npos) << plan.output;
+    } else {
+      EXPECT_EQ(plan.exit_code, 0) << plan.output;
+    }
+  }
+  const auto survey =
+      run_cli(args({"traversability", quoted(data_file("terrain_als/Topography.las")),
+                    "--min-range", "2", "--out", quoted(dir / "survey")}));
+  EXPECT_NE(survey.exit_code, 0);
+  EXPECT_NE(survey.output.find("--min-range"), std::string::npos) << survey.output;
+  EXPECT_FALSE(fs::exists(dir / "survey" / "summary.json"));
+}
+
 }  // namespace
 }  // namespace fieldlidar::test
