@@ -323,6 +323,8 @@ BENCHMARK(BM_RrtStarVsHybridAStar)
     ->Args({12, 1, 0})
     ->Args({12, 0, 1})
     ->Args({12, 1, 1})
+    ->Args({10, 0, 1})
+    ->Args({10, 1, 1})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 
