@@ -138,7 +138,7 @@ void BM_HybridAStar147k(benchmark::State& state) {
   int smoothed = 0;
   const auto qs = queries(planner, 60, 11);
   std::vector<double> ms, search_ms, shortcut_ms, smooth_ms, exp, cpu_ms, heuristic_ms;
-  int ok = 0, nopath = 0, timed_out = 0, other = 0;
+  int ok = 0, nopath = 0, timed_out = 0, other = 0, late = 0;
   for (auto _ : state) {
     ms.clear();
     for (const auto& q : qs) {
@@ -166,6 +166,7 @@ void BM_HybridAStar147k(benchmark::State& state) {
         shortcut_ms.push_back(r.shortcut_ms);
         smooth_ms.push_back(r.smooth_ms);
         exp.push_back(r.expansions);
+        late += r.late_weight;
         if (std::getenv("FIELDLIDAR_BENCH_DETAIL"))
           std::fprintf(stderr,
                        "query %d: %.2f ms CPU (search %.2f, heuristic %.2f, shortcut %.2f, "
@@ -207,6 +208,7 @@ void BM_HybridAStar147k(benchmark::State& state) {
   state.counters["cost_vs_w1_median"] = percentile(cost_ratio, 0.5);
   state.counters["cost_vs_w1_max"] = percentile(cost_ratio, 1.0);
   state.counters["other_failures"] = other;
+  state.counters["late_weight_plans"] = late;  // searches hurried past late_expansions
   state.counters["final_cost_vs_w1_median"] = percentile(final_ratio, 0.5);
   state.counters["final_cost_vs_w1_p95"] = percentile(final_ratio, 0.95);
   state.counters["final_cost_vs_w1_max"] = percentile(final_ratio, 1.0);

@@ -51,7 +51,8 @@ bool config_valid(const PlannerConfig& c) {
          c.direction_change_penalty_m >= 0.0 && c.path_resolution_m > 0.0 &&
          c.goal_xy_tolerance_m >= 0.0 && c.goal_yaw_tolerance_rad >= 0.0 &&
          c.heuristic_downsample >= 1 && c.heuristic_downsample <= 16 && c.heuristic_weight >= 1.0 &&
-         c.heuristic_weight <= 10.0;
+         c.heuristic_weight <= 10.0 && c.late_expansions >= 0 && c.late_heuristic_weight >= 1.0 &&
+         c.late_heuristic_weight <= 10.0;
 }
 
 struct Primitive {
@@ -113,10 +114,23 @@ struct HybridAStar::Search {
     double h = 0.0;
   };
   using Entry = std::pair<double, int>;
+  static constexpr int kGoalEntry = -1;  ///< an open-list entry for the best goal candidate
   std::vector<Node> nodes;
   StateTable state_node;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
   ObstacleHeuristic heuristic;
+
+  /// The open list rebuilt with keys g + weight h (the goal candidate's cost, when >= 0, kept).
+  void rekey(double weight, double goal_cost) {
+    std::vector<Entry> entries;
+    for (int i = 0; i < int(nodes.size()); ++i) {
+      const Node& n = nodes[i];
+      if (!n.closed && *state_node.find(n.state) == i)
+        entries.push_back({n.g + weight * n.h - 1e-6 * n.g, i});
+    }
+    if (goal_cost >= 0.0) entries.push_back({goal_cost, kGoalEntry});
+    open = decltype(open)(std::greater<>(), std::move(entries));
+  }
 };
 
 HybridAStar::HybridAStar(const Grid2D& map, const terrain::RobotConfig& robot, PlannerConfig config)
@@ -218,12 +232,19 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
 
   // A collision-free shot is a goal candidate in the open list at its true cost (so a cheaper
   // way round low-tau ground can still win); the search ends when a candidate is popped.
-  constexpr int kGoalEntry = -1;
+  constexpr int kGoalEntry = Search::kGoalEntry;
   int goal_node = -1, best_shot_node = -1;
   double best_goal_g = std::numeric_limits<double>::infinity();
   RsCurve shot, best_shot;
   int since_shot = 0;
+  double weight = c.heuristic_weight;
   while (!s.open.empty()) {
+    if (c.late_expansions > 0 && result.expansions == c.late_expansions && weight > 1.0 &&
+        c.late_heuristic_weight > weight) {
+      weight = c.late_heuristic_weight;
+      result.late_weight = true;
+      s.rekey(weight, best_shot_node >= 0 ? best_goal_g : -1.0);
+    }
     if ((result.expansions & 7) == 0 && Clock::now() > deadline) return fail(PlanStatus::kTimedOut);
     if (result.expansions >= c.max_expansions) return fail(PlanStatus::kExpansionLimit);
     const auto [f_top, idx] = s.open.top();
@@ -245,7 +266,7 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
                             : reeds_shepp_length_m(node.pose, goal, R);
       if (rs > node.h) {
         node.h = rs;
-        s.open.push({node.g + c.heuristic_weight * node.h - 1e-6 * node.g, idx});
+        s.open.push({node.g + weight * node.h - 1e-6 * node.g, idx});
         continue;
       }
     }
@@ -308,8 +329,7 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
       s.nodes.push_back({q, g, idx, pi, st, false, rs_wanted(q), h});
       const int child = int(s.nodes.size()) - 1;
       s.state_node.set(st, child);
-      s.open.push(
-          {g + c.heuristic_weight * h - 1e-6 * g, child});  // f32; ties go to the deeper node
+      s.open.push({g + weight * h - 1e-6 * g, child});  // f32; ties go to the deeper node
     }
   }
   if (goal_node < 0) return fail(PlanStatus::kNoPath);

@@ -1,8 +1,10 @@
 // Hybrid A* on hand-built maps with known answers: a corridor, a maze, a U-trap that needs a
-// reverse manoeuvre, an unreachable goal, and a field of low tau the plan goes round.
+// reverse manoeuvre, an unreachable goal, a field of low tau the plan goes round, and searches
+// hurried past late_expansions.
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -165,6 +167,43 @@ TEST(HybridAStar, ShortcutsTakeTheLatticeZigzagOut) {
   EXPECT_NEAR(r.path.back().pose.x_m, r.raw_path.back().pose.x_m, 1e-9);
   EXPECT_NEAR(r.path.back().pose.yaw_rad, r.raw_path.back().pose.yaw_rad, 1e-9);
   for (const auto& p : r.path) EXPECT_FALSE(planner.map().footprint_hits_blocked(p.pose, 0.0));
+}
+
+// A search past late_expansions goes on at late_heuristic_weight: still a valid plan, at most
+// that weight times the optimal (weight 1) cost; never at weight 1, nor with late_expansions 0.
+TEST(HybridAStar, LateWeightHurriesOnlyLongSearches) {
+  std::mt19937 rng(8);
+  int hurried = 0, compared = 0;
+  double worst = 0.0;
+  for (int m = 0; m < 3; ++m) {
+    const Grid2D map = test::random_map(rng, 60, 60, 30);
+    PlannerConfig optimal, never, early;
+    optimal.heuristic_weight = 1.0;
+    optimal.late_expansions = 1;  // ignored at weight 1
+    never.late_expansions = 0;
+    early.late_expansions = 20;
+    HybridAStar a(map, {}, optimal), b(map, {}, never), c(map, {}, early);
+    std::uniform_real_distribution<double> pos(1.0, 59.0), yaw(-M_PI, M_PI);
+    for (int q = 0; q < 4; ++q) {
+      Pose2 s{pos(rng), pos(rng), yaw(rng)}, g{pos(rng), pos(rng), yaw(rng)};
+      while (!a.map().pose_free(s)) s = {pos(rng), pos(rng), yaw(rng)};
+      while (!a.map().pose_free(g)) g = {pos(rng), pos(rng), yaw(rng)};
+      const PlanResult ra = a.plan(s, g), rb = b.plan(s, g), rc = c.plan(s, g);
+      EXPECT_FALSE(ra.late_weight);
+      EXPECT_FALSE(rb.late_weight);
+      EXPECT_TRUE(rc.late_weight || rc.expansions <= 20) << rc.expansions;
+      EXPECT_TRUE(!rc.late_weight || rc.expansions >= 20) << rc.expansions;
+      EXPECT_EQ(ra.ok(), rc.ok()) << to_string(ra.status) << " " << to_string(rc.status);
+      if (!ra.ok() || !rc.ok()) continue;
+      hurried += rc.late_weight;
+      ++compared;
+      worst = std::max(worst, rc.cost / ra.cost);
+      EXPECT_LE(rc.cost, early.late_heuristic_weight * ra.cost * (1.0 + 1e-9));
+    }
+  }
+  std::printf("late weight: %d of %d plans hurried, cost at most %.3f x the optimal\n", hurried,
+              compared, worst);
+  EXPECT_GE(hurried, 4);
 }
 
 }  // namespace

@@ -41,7 +41,8 @@ enum class NavigateState { kPlanning, kDriving, kSafetyStop, kArrived, kUnreacha
 const char* to_string(NavigateOutcome outcome);
 const char* to_string(NavigateState state);
 
-/// The planner's defaults with unknown cells at tau 1 (optimistic: see the file comment).
+/// The planner's defaults with unknown cells at tau 1 (optimistic: see the file comment) and
+/// searches never hurried (late_expansions 0).
 planning::PlannerConfig navigate_planner_config();
 
 struct NavigateConfig {
