@@ -118,6 +118,7 @@ void run(const PlanOptions& o) {
                 {"width_m", robot.width_m},
                 {"min_turn_radius_m", robot.min_turn_radius_m}};
   j["expansions"] = r.expansions;
+  j["late_weight"] = r.late_weight;  // the search went on at late_heuristic_weight
   j["search_ms"] = r.search_ms;
   j["heuristic_ms"] = r.heuristic_ms;
   j["shortcut_ms"] = r.shortcut_ms;

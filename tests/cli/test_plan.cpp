@@ -67,6 +67,8 @@ TEST(CliPlan, PathRoundAWallAndATypedFailure) {
   EXPECT_GT(j["length_m"].get<double>(), 27.3);
   EXPECT_LT(j["length_m"].get<double>(), 34.0);
   EXPECT_LE(j["max_curvature_per_m"].get<double>(), 1.0 + 1e-6);
+  // hurried past 500 expansions only
+  EXPECT_EQ(j["late_weight"].get<bool>(), j["expansions"].get<int>() > 500);
   const auto g = nlohmann::json::parse(slurp_file(out / "path.geojson"));
   EXPECT_EQ(g["features"][0]["geometry"]["type"], "LineString");
 
