@@ -30,6 +30,8 @@ struct PlanOptions {
   std::string map, start, goal, out, robot;
   double radius_m = 0.0;  ///< 0: the robot's min_turn_radius_m
   double budget_ms = 1000.0;
+  double weight = planning::PlannerConfig{}.heuristic_weight;
+  int late_expansions = planning::PlannerConfig{}.late_expansions;
   bool allow_unknown = true, no_smooth = false, force = false;
 };
 
@@ -101,6 +103,8 @@ void run(const PlanOptions& o) {
   planning::PlannerConfig cfg = planning::planner_config_for(robot);
   if (o.radius_m > 0) cfg.min_turn_radius_m = o.radius_m;
   cfg.time_budget_ms = o.budget_ms;
+  cfg.heuristic_weight = o.weight;
+  cfg.late_expansions = o.late_expansions;
   cfg.smooth = !o.no_smooth;
   cfg.map.allow_unknown = o.allow_unknown;
   planning::HybridAStar planner(map, robot, cfg);
@@ -117,6 +121,8 @@ void run(const PlanOptions& o) {
                 {"length_m", robot.length_m},
                 {"width_m", robot.width_m},
                 {"min_turn_radius_m", robot.min_turn_radius_m}};
+  j["heuristic_weight"] = cfg.heuristic_weight;
+  j["late_expansions"] = cfg.late_expansions;
   j["expansions"] = r.expansions;
   j["late_weight"] = r.late_weight;  // the search went on at late_heuristic_weight
   j["search_ms"] = r.search_ms;
@@ -187,6 +193,18 @@ void add_plan_command(CLI::App& app) {
   cmd->add_option("--budget-ms", o->budget_ms, "Time budget of the plan (ms)")
       ->capture_default_str()
       ->check(real_in(1.0, 600000.0));
+  cmd->add_option("--weight", o->weight,
+                  "Heuristic weight: 1 searches most thoroughly (near the cheapest path of its "
+                  "lattice); above 1 it expands fewer nodes for a path up to this many times "
+                  "costlier")
+      ->capture_default_str()
+      ->check(real_in(1.0, 10.0));
+  cmd->add_option("--late-expansions", o->late_expansions,
+                  "A search still going after this many expansions goes on at weight 1.5 (the "
+                  "slowest plans, near a goal heading hard to meet, finish sooner); 0: never; "
+                  "never at --weight 1")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100000000));
   cmd->add_flag("--no-unknown{false}", o->allow_unknown, "Never drive over unknown cells");
   cmd->add_flag("--no-smooth", o->no_smooth, "Return the search's path without smoothing");
   cmd->add_flag("-f,--force", o->force, "Replace existing output files");

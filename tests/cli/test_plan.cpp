@@ -69,6 +69,17 @@ TEST(CliPlan, PathRoundAWallAndATypedFailure) {
   EXPECT_LE(j["max_curvature_per_m"].get<double>(), 1.0 + 1e-6);
   // hurried past 500 expansions only
   EXPECT_EQ(j["late_weight"].get<bool>(), j["expansions"].get<int>() > 500);
+  EXPECT_DOUBLE_EQ(j["heuristic_weight"].get<double>(), 1.2);
+  // the thorough search (weight 1, never hurried): more expansions, a path as cheap within 2 %
+  const auto best = run_cli("plan --map " + quoted(dir / "map") +
+                            " --start 5,5,0 --goal 25,5,0 --weight 1 --late-expansions 0 --out " +
+                            quoted(dir / "best"));
+  ASSERT_EQ(best.exit_code, 0) << best.output;
+  const auto jw = nlohmann::json::parse(slurp_file(dir / "best" / "summary.json"));
+  EXPECT_DOUBLE_EQ(jw["heuristic_weight"].get<double>(), 1.0);
+  EXPECT_FALSE(jw["late_weight"].get<bool>());
+  EXPECT_NEAR(jw["cost"].get<double>(), j["cost"].get<double>(), 0.02 * j["cost"].get<double>());
+  EXPECT_GE(jw["expansions"].get<int>(), j["expansions"].get<int>());
   const auto g = nlohmann::json::parse(slurp_file(out / "path.geojson"));
   EXPECT_EQ(g["features"][0]["geometry"]["type"], "LineString");
 
