@@ -13,8 +13,6 @@
 #include <random>
 #include <vector>
 
-#include <time.h>
-
 #include <benchmark/benchmark.h>
 #include <ompl/base/ScopedState.h>
 #include <ompl/base/objectives/PathLengthOptimizationObjective.h>
@@ -27,11 +25,14 @@
 
 #include "fieldlidar/planning/hybrid_astar.hpp"
 #include "fieldlidar/planning/path_check.hpp"
+#include "planning_timing.hpp"
 
 namespace {
 
 using namespace fieldlidar;
 using namespace fieldlidar::planning;
+using fieldlidar::bench::percentile;
+using fieldlidar::bench::thread_cpu_ms;
 namespace L = terrain::layer;
 
 Grid2D bench_map(std::uint32_t seed) {
@@ -88,12 +89,6 @@ std::vector<Query> queries(const HybridAStar& planner, int n, std::uint32_t seed
   return q;
 }
 
-double thread_cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-
 // Direction changes of an OMPL Reeds–Shepp path (between and within its segments).
 int cusps(const ompl::geometric::PathGeometric& path) {
   const auto* space =
@@ -108,12 +103,6 @@ int cusps(const ompl::geometric::PathGeometric& path) {
     }
   }
   return n;
-}
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, std::size_t(p * (v.size() - 1) + 0.5))];
 }
 
 void BM_HybridAStar147k(benchmark::State& state) {

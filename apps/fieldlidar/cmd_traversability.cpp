@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <span>
 #include <string>
 #include <vector>
 
@@ -46,15 +45,6 @@ struct TraversabilityOptions {
   double min_range_m = 0;  ///< returns nearer the sensor are dropped (the robot's body); 0: none
   bool force = false;
 };
-
-// The cloud without its returns nearer than `min_range_m` to the sensor (3D range).
-void drop_near(PointCloud& cloud, double min_range_m) {
-  if (min_range_m <= 0.0) return;
-  const auto keep = std::make_unique<bool[]>(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i)
-    keep[i] = cloud.points[i].xyz().cast<double>().norm() >= min_range_m;
-  cloud = select(cloud, std::span<const bool>(keep.get(), cloud.size()));
-}
 
 // A survey's cell holds about 8 returns on average (an airborne tile of ~1 point/m2 gets ~3 m
 // cells, where 0.5 m cells would be nearly all unknown), never below `least_m`, in 0.5 m steps.
@@ -142,7 +132,7 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
   };
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
-    drop_near(cloud, o.min_range_m);
+    drop_nearer_than(cloud, o.min_range_m);
     if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
     if (!sensor) {
       sensor = source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
@@ -248,7 +238,7 @@ void run(const TraversabilityOptions& o) {
           fmt::format("--min-range: {} is not one sensor sweep ({}), so it has no sensor "
                       "to measure ranges from (give --sensor for a sweep)",
                       o.input, check.reason));
-    drop_near(cloud, o.min_range_m);
+    drop_nearer_than(cloud, o.min_range_m);
     if (cloud.valid_count() == 0)
       throw Error(fmt::format("{}: no valid point beyond --min-range {} m: nothing to map", o.input,
                               o.min_range_m));

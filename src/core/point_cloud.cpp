@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <span>
 #include <stdexcept>
 
 namespace fieldlidar {
@@ -56,6 +58,14 @@ PointCloud select(const PointCloud& cloud, std::span<const bool> keep) {
   out.width = static_cast<std::uint32_t>(out.points.size());
   out.height = 1;
   return out;
+}
+
+void drop_nearer_than(PointCloud& cloud, double min_range_m) {
+  if (!(min_range_m > 0.0)) return;
+  const auto keep = std::make_unique<bool[]>(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    keep[i] = cloud.points[i].xyz().cast<double>().norm() >= min_range_m;
+  cloud = select(cloud, std::span<const bool>(keep.get(), cloud.size()));
 }
 
 }  // namespace fieldlidar

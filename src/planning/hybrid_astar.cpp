@@ -89,6 +89,8 @@ struct HybridAStar::Search {
   };
   using Entry = std::pair<double, int>;
   static constexpr int kGoalEntry = -1;  ///< an open-list entry for the best goal candidate
+  /// f = g + weight h; among equal f the deeper node (larger g) first.
+  static double key(double g, double h, double weight) { return g + weight * h - 1e-6 * g; }
   std::vector<Node> nodes;
   StateTable state_node;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
@@ -100,7 +102,7 @@ struct HybridAStar::Search {
     for (int i = 0; i < int(nodes.size()); ++i) {
       const Node& n = nodes[i];
       if (!n.closed && *state_node.find(n.state) == i)
-        entries.push_back({n.g + weight * n.h - 1e-6 * n.g, i});
+        entries.push_back({key(n.g, n.h, weight), i});
     }
     if (goal_cost >= 0.0) entries.push_back({goal_cost, kGoalEntry});
     open = decltype(open)(std::greater<>(), std::move(entries));
@@ -240,7 +242,7 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
                             : reeds_shepp_length_m(node.pose, goal, R);
       if (rs > node.h) {
         node.h = rs;
-        s.open.push({node.g + weight * node.h - 1e-6 * node.g, idx});
+        s.open.push({Search::key(node.g, node.h, weight), idx});
         continue;
       }
     }
@@ -303,7 +305,7 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
       s.nodes.push_back({q, g, idx, pi, st, false, rs_wanted(q), h});
       const int child = int(s.nodes.size()) - 1;
       s.state_node.set(st, child);
-      s.open.push({g + weight * h - 1e-6 * g, child});  // f32; ties go to the deeper node
+      s.open.push({Search::key(g, h, weight), child});  // f32
     }
   }
   if (goal_node < 0) return fail(PlanStatus::kNoPath);

@@ -64,7 +64,7 @@ std::vector<std::uint8_t> centre_blocked_cells(const PlanningMap& map, double ra
 }
 
 void ObstacleHeuristic::push(float key_m, std::uint32_t i) {
-  // monotone for d >= 0; a key rounded below the last popped one is taken as equal to it
+  // monotone for key_m >= 0; a key rounded below the last popped one is taken as equal to it
   const std::uint32_t key = std::max(std::bit_cast<std::uint32_t>(key_m), last_key_);
   buckets_[std::bit_width(key ^ last_key_)].push_back((std::uint64_t(key) << 32) | i);
   ++queued_;

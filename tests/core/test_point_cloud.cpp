@@ -29,6 +29,21 @@ TEST(PointCloud, BoundsAndRingsIgnoreInvalidPoints) {
   EXPECT_DOUBLE_EQ(b.max.z(), 3.0);
 }
 
+TEST(PointCloud, DropNearerThanKeepsFarPointsAndTheirLabels) {
+  PointCloud c;
+  c.fields.label = true;
+  for (float x : {0.5f, 1.0f, 2.0f, 3.0f}) c.push_back({x, 0.f, 0.f}, 100u + std::uint32_t(x));
+  c.push_back({NAN, 0.f, 0.f}, 7u);
+  PointCloud same = c;
+  drop_nearer_than(same, 0.0);  // off: untouched, invalid points too
+  EXPECT_EQ(same.size(), 5u);
+  drop_nearer_than(c, 2.0);  // 2 m itself is kept; NaN is dropped
+  ASSERT_EQ(c.size(), 2u);
+  ASSERT_TRUE(c.has_labels());
+  EXPECT_FLOAT_EQ(c.points[0].x, 2.f);
+  EXPECT_EQ(c.labels[1], 103u);
+}
+
 TEST(PointCloud, SelectKeepsLabelsAligned) {
   PointCloud c;
   c.fields.label = true;

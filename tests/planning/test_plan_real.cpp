@@ -10,8 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <memory>
-#include <span>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -84,16 +82,11 @@ double ground_z_m(const PointCloud& cloud, const std::vector<std::uint32_t>& lab
 
 TEST(PlanReal, Rellis3dPathsKeepOffLabelledObstacles) {
   FIELDLIDAR_REQUIRE_DATA("rellis3d/000001.label");
-  const PointCloud all = io::read_cloud(fieldlidar::test::data_file("rellis3d/000001.bin"));
-  const auto all_labels = io::read_labels(fieldlidar::test::data_file("rellis3d/000001.label"));
-  ASSERT_EQ(all_labels.size(), all.size());
-  const auto keep = std::make_unique<bool[]>(all.size());
-  std::vector<std::uint32_t> labels;
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    keep[i] = all.points[i].is_valid() && all.points[i].xyz().norm() >= 2.3f;
-    if (keep[i]) labels.push_back(all_labels[i]);
-  }
-  const PointCloud cloud = select(all, std::span<const bool>(keep.get(), all.size()));
+  PointCloud cloud = io::read_cloud(fieldlidar::test::data_file("rellis3d/000001.bin"));
+  cloud.labels = io::read_labels(fieldlidar::test::data_file("rellis3d/000001.label"));
+  ASSERT_EQ(cloud.labels.size(), cloud.size());
+  drop_nearer_than(cloud, 2.3);  // the labels follow their points
+  const std::vector<std::uint32_t>& labels = cloud.labels;
   SensorModel sensor = SensorModel::os1_64();
   sensor.columns = 2048;
   const Grid2D map = terrain::map_scan(cloud, sensor, Pose::Identity());

@@ -92,4 +92,9 @@ Bounds3 compute_bounds(const PointCloud& cloud);
 /// Keeps the points for which keep[i] is true (labels follow); the cloud becomes unorganized.
 PointCloud select(const PointCloud& cloud, std::span<const bool> keep);
 
+/// Drops the points nearer than `min_range_m` (3D) to the cloud's frame origin, the sensor (e.g.
+/// the robot's own body), and those without a finite position, through select(); a range <= 0
+/// leaves the cloud as it is.
+void drop_nearer_than(PointCloud& cloud, double min_range_m);
+
 }  // namespace fieldlidar
