@@ -19,6 +19,7 @@
 #include "fieldlidar/loops/closed_loop.hpp"
 #include "follow_job.hpp"
 #include "support/canvas.hpp"
+#include "support/legs_runner.hpp"
 #include "support/option_checks.hpp"
 #include "support/warnings.hpp"
 
@@ -123,6 +124,18 @@ void run_follow(const FollowOptions& o) {
   if (!o.origin.empty()) origin = parse_geo_origin(o.origin, "--origin");
   loops::ClosedLoopConfig cfg;
   cfg.pose_source = *pose_source;
+  std::string detector;
+  if (sensor->kind == SensorModel::Kind::kPlanar2D) {
+    // A 2D laser at leg height: the 2D leg pipeline with the shipped (or given) detector.
+    LegsRunOptions lo;
+    lo.input = "--sensor " + o.sensor;
+    lo.config = o.legs_config;
+    const LegsRunner legs(lo);
+    cfg.legs_2d = legs.config_2d();
+    detector = legs.detector_summary();
+  } else if (!o.legs_config.empty()) {
+    throw Error("--legs-config: only for 2D scans (--sensor laser2d, or --replay of 2D scans)");
+  }
   if (o.target_id >= 0) cfg.follow.target_id = std::uint32_t(o.target_id);
   if (o.max_time_s > 0) cfg.max_time_s = o.max_time_s;
   if (o.safe_distance_m > 0) cfg.follow.safety.safe_distance_m = o.safe_distance_m;
@@ -162,6 +175,7 @@ void run_follow(const FollowOptions& o) {
   s["scene"] = o.scene;
   s["scenario"] = o.scenario;
   s["sensor"] = sensor->name;
+  if (!detector.empty()) s["detector"] = detector;
   s["seed"] = o.seed;
   s["frames"] = r.rows.size();
   s["duration_s"] = r.duration_s;
@@ -184,6 +198,8 @@ void run_follow(const FollowOptions& o) {
                   {"frames_moving_below_L_s", r.frames_moving_too_close},
                   {"target_id", r.first_target_id ? std::int64_t(*r.first_target_id) : -1},
                   {"target_switches", r.target_switches},
+                  {"frames_target_chosen", r.frames_target_chosen},
+                  {"frames_target_held", r.frames_target_held},
                   {"frames_target_estimate_off", r.frames_target_off},
                   {"occlusions", r.occlusions},
                   {"max_stop_delay_frames", r.max_stop_delay_frames},
@@ -228,7 +244,11 @@ void add_follow_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "follow", "Simulate the mower following its operator and recording the lawn boundary");
   cmd->add_option("--scene", o->scene, "Simulated scene (lawn)")->capture_default_str();
-  cmd->add_option("--sensor", o->sensor, "Sensor preset")->capture_default_str();
+  cmd->add_option("--sensor", o->sensor,
+                  "Sensor preset: a multi-beam LiDAR (vlp16, ...) or laser2d, a planar 2D laser at "
+                  "the mower's 0.45 m mount (270 deg, 0.35 deg steps, 10 Hz) seen through the 2D "
+                  "leg pipeline")
+      ->capture_default_str();
   cmd->add_option("--scenario", o->scenario,
                   "default, crossing, stop, fast, occluded or standing-start")
       ->capture_default_str();
@@ -254,7 +274,8 @@ void add_follow_command(CLI::App& app) {
                   "latitude as RFC 7946 asks (tangent plane: 1 mm error at 100 m, 0.1 m at 1 km, "
                   "at 48 deg latitude)");
   cmd->add_option("--pose-source", o->pose_source,
-                  "The mower's pose: odometry (LiDAR + IMU + wheels) or truth (the simulator's)")
+                  "The mower's pose: odometry (LiDAR + IMU + wheels; with --sensor laser2d wheels "
+                  "and gyro) or truth (the simulator's)")
       ->capture_default_str();
   cmd->add_option("--replay", o->replay,
                   "A ROS1 bag (or a simulate folder) to replay instead of simulating: perception, "
@@ -267,8 +288,8 @@ void add_follow_command(CLI::App& app) {
                   "a TUM pose file of the sensor (e.g. a simulate folder's poses_tum.txt) "
                   "(default: the robot stands still)");
   cmd->add_option("--legs-config", o->legs_config,
-                  "With --replay of 2D scans: leg detector YAML and its optional `tracker:` map "
-                  "(default: the shipped legs_2d.yaml)");
+                  "2D scans (--replay of a 2D laser, or --sensor laser2d): leg detector YAML and "
+                  "its optional `tracker:` map (default: the shipped legs_2d.yaml)");
   cmd->add_option("--out", o->out, "Output folder")->required();
   cmd->add_flag("--force", o->force, "Overwrite existing output files");
   cmd->callback([o] { run_follow(*o); });

@@ -155,6 +155,16 @@ SensorModel SensorModel::tilting_2d(int planes, double min_tilt_rad, double max_
   return m;
 }
 
+SensorModel SensorModel::laser_2d(int columns, double scan_fov_rad, double rate_hz,
+                                  double max_range_m) {
+  auto m = from_beam_angles("laser2d", {0.0}, columns, rate_hz, 0.05, max_range_m);
+  m.kind = Kind::kPlanar2D;
+  m.horizontal_fov_rad = scan_fov_rad;
+  m.range_accuracy_m = 0.01;
+  m.validate();
+  return m;
+}
+
 std::optional<SensorModel> SensorModel::preset(const std::string& name) {
   if (name == "vlp16") return vlp16();
   if (name == "vlp32c") return vlp32c();
@@ -164,11 +174,13 @@ std::optional<SensorModel> SensorModel::preset(const std::string& name) {
   if (name == "os1-128" || name == "os1_128") return os1_128();
   if (name == "os2-128" || name == "os2_128") return os2_128();
   if (name == "tilting2d") return tilting_2d();
+  if (name == "laser2d") return laser_2d();
   return std::nullopt;
 }
 
 std::vector<std::string> SensorModel::preset_names() {
-  return {"vlp16", "vlp32c", "hdl32e", "hdl64e", "os1-64", "os1-128", "os2-128", "tilting2d"};
+  return {"vlp16",   "vlp32c",  "hdl32e",    "hdl64e", "os1-64",
+          "os1-128", "os2-128", "tilting2d", "laser2d"};
 }
 
 }  // namespace fieldlidar

@@ -65,11 +65,13 @@ ReplayFrame FollowReplay::step(PointCloud cloud, double stamp_s,
     // Without recorded odometry the leg pipeline estimates its own ego-motion by scan matching
     // (a robot taken as still that is not, or a shaking mount, would otherwise smear static
     // returns into leg tracks); its persons are then placed from the sensor frame.
-    const auto det = T_odom_base
-                         ? legs_2d_.process(stamp_s, people::scan_points_2d(cloud), T_2d)
-                         : legs_2d_.process(stamp_s, people::scan_points_2d(cloud));
+    const auto det = T_odom_base ? legs_2d_.process(stamp_s, people::scan_points_2d(cloud), T_2d)
+                                 : legs_2d_.process(stamp_s, people::scan_points_2d(cloud));
     for (const auto& l : det.legs) perception.legs_m.push_back(T_2d * l.position_m);
-    for (const auto& p : det.people) perception.people_m.push_back(T_2d * p.position_m);
+    // Persons seen in this scan: the controller stops on a target it did not see (a coasted
+    // report is not driven on).
+    for (const auto& p : det.people)
+      if (p.seen) perception.people_m.push_back(T_2d * p.position_m);
   } else {
     ensure_rings(cloud, sensor_);
     perception = perceive(cloud, sensor_, T, config_.follow);

@@ -27,6 +27,13 @@ Pose lidar_pose(const sim::Scene& scene, const Pose2& m) {
   return make_pose(m.x_m, m.y_m, z, 0, 0, m.yaw_rad);
 }
 
+Eigen::Isometry2d isometry_2d(const Pose2& p) {
+  Eigen::Isometry2d T = Eigen::Isometry2d::Identity();
+  T.translation() = p.xy();
+  T.linear() = Eigen::Rotation2Dd(p.yaw_rad).toRotationMatrix();
+  return T;
+}
+
 /// A planar pose at height 0.
 Pose flat_pose(const Pose2& m) {
   return make_pose(m.x_m, m.y_m, 0, 0, 0, m.yaw_rad);
@@ -67,8 +74,17 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
   const double period = sensor.sweep_period_s();
   const double b = cfg.follow.drive.track_width_m;
   res.pose_source = cfg.pose_source;
+  const bool planar_laser = sensor.kind == SensorModel::Kind::kPlanar2D;
+  std::optional<people::LegPipeline2D> legs_2d;
+  if (planar_laser) legs_2d.emplace(cfg.legs_2d);
+  std::optional<DeadReckoningPoseSource> dead_reckoning;
+  if (cfg.pose_source == PoseSource::kOdometry && planar_laser) {
+    MotionStreamsConfig streams = cfg.streams;
+    streams.wheels.track_width_m = b;
+    dead_reckoning.emplace(streams);
+  }
   std::optional<OdometryPoseSource> odometry;
-  if (cfg.pose_source == PoseSource::kOdometry) {
+  if (cfg.pose_source == PoseSource::kOdometry && !planar_laser) {
     MotionStreamsConfig streams = cfg.streams;
     streams.wheels.track_width_m = b;
     odometry.emplace(sensor, scene.sensor_height_m(), cfg.odometry, streams);
@@ -120,7 +136,15 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
     Pose2 mower_used = mower;
     PointCloud cloud;
     LogRow row;
-    if (!odometry) {
+    if (dead_reckoning) {
+      if (k == 0) T_frame_world = T0.inverse();
+      T0_used = flat_pose(dead_reckoning->pose());
+      const MowerSegment relative{{}, t0, v, dv, b};
+      cloud = deskew(
+          frame.cloud, [&](double t) { return flat_pose(relative.at(t)); }, t0, Pose::Identity());
+      mower_used = dead_reckoning->advance(
+          [&](double t) { return base_pose(scene, segment.at(t)); }, t0, t0 + period);
+    } else if (!odometry) {
       cloud = deskew(frame.cloud, pose_at, t0, T0);
     } else {
       if (k == 0) T_frame_world = T0.inverse();
@@ -146,10 +170,22 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
       mower_used = follow::predict_pose(planar(T0_used), v, dv, b, period);
     }
     previous = segment;
+    const auto tic = std::chrono::steady_clock::now();
+    follow::FrameOutput out;
+    if (planar_laser) {
+      // The 2D leg pipeline: legs, leg tracks and persons in the recording frame.
+      const auto det =
+          legs_2d->process(t0, people::scan_points_2d(cloud), isometry_2d(planar(T0_used)));
+      follow::Perception perception;
+      for (const auto& l : det.legs) perception.legs_m.push_back(det.pose * l.position_m);
+      for (const auto& p : det.people)  // seen in this scan: a coasted report is not driven on
+        if (p.seen) perception.people_m.push_back(det.pose * p.position_m);
+      out = pipeline.follow(std::move(perception), mower_used, t0 + period / 2, period);
+    } else {
+      out = pipeline.step(cloud, T0_used, mower_used, t0 + period / 2, period);
+    }
     res.lidar_poses_used.push_back(T0_used);
     res.lidar_poses_true.push_back(T_frame_world * T0);
-    const auto tic = std::chrono::steady_clock::now();
-    const auto out = pipeline.step(cloud, T0_used, mower_used, t0 + period / 2, period);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tic).count();
     perception_total_ms += ms;
@@ -196,6 +232,8 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
         ++res.frames_target_off;
     }
     if (out.target_id) {
+      ++res.frames_target_chosen;
+      res.frames_target_held += out.target_world_m.has_value();
       if (!res.first_target_id) res.first_target_id = out.target_id;
       if (last_target && *last_target != *out.target_id) ++res.target_switches;
       last_target = out.target_id;
@@ -246,7 +284,7 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
   res.boundary_error = compare_closed(res.boundary.vertices, res.operator_loop);
   const double frames = std::max<double>(1.0, double(res.rows.size()));
   res.mean_perception_ms = perception_total_ms / frames;
-  if (odometry) {
+  if (odometry || dead_reckoning) {
     res.mean_odometry_ms = odometry_total_ms / frames;
     if (res.lidar_poses_used.size() >= 2)
       res.odometry_accuracy = evaluate_trajectory(res.lidar_poses_used, res.lidar_poses_true);

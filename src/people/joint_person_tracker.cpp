@@ -60,18 +60,23 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
            (a.position_m - b.position_m).norm() <= c.standing_pair_distance_max_m;
   };
   auto capped = [&](double s) { return std::min(s - c.score_offset, c.score_cap); };
+  auto gain_of = [&](const LegObservation& l) { return l.carry_only ? 0.0 : capped(l.score); };
 
   // Hypotheses of each track: every pair and every single leg within the gate.
   std::vector<Hypothesis> hyp;
   for (std::size_t k = 0; k < tracks_.size(); ++k) {
     const Eigen::Vector2d pred = tracks_[k].position();
+    const bool reported = tracks_[k].reported;
     for (std::size_t i = 0; i < legs.size(); ++i) {
+      if (legs[i].carry_only && !reported) continue;
       const double di = (legs[i].position_m - pred).norm();
       if (di > c.gate_m + 0.5 * c.pair_distance_max_m) continue;
       if (di <= c.gate_m) hyp.push_back({di, k, int(i), -1});
       for (std::size_t j = i + 1; j < legs.size(); ++j) {
+        if (legs[j].carry_only && !reported) continue;
         if ((legs[i].position_m - legs[j].position_m).squaredNorm() > pair2) continue;
-        if (capped(legs[i].score) + capped(legs[j].score) <= 0) continue;
+        const bool carried = legs[i].carry_only || legs[j].carry_only;
+        if (capped(legs[i].score) + capped(legs[j].score) <= 0 && !carried) continue;
         const double d = (0.5 * (legs[i].position_m + legs[j].position_m) - pred).norm();
         if (d <= c.gate_m) hyp.push_back({d - c.pair_bonus_m, k, int(i), int(j)});
       }
@@ -90,18 +95,19 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
     JointTrack& t = tracks_[h.track];
     const auto& la = legs[std::size_t(h.a)];
     Eigen::Vector2d z = la.position_m;
-    double gain = c.single_weight * capped(la.score);
+    double gain = c.single_weight * gain_of(la);
     double sigma = c.single_sigma_m;
     out.person_of_leg[std::size_t(h.a)] = t.id;
     if (h.b >= 0) {
       const auto& lb = legs[std::size_t(h.b)];
       z = 0.5 * (la.position_m + lb.position_m);
-      gain = capped(la.score) + capped(lb.score);
+      gain = gain_of(la) + gain_of(lb);
       sigma = c.pair_sigma_m;
       out.person_of_leg[std::size_t(h.b)] = t.id;
       ++t.pair_hits;
       if (standing_shape(la, lb)) ++t.standing_pair_hits;
     }
+    if (!la.carry_only || (h.b >= 0 && !legs[std::size_t(h.b)].carry_only)) t.scored_s = stamp_s;
     kalman_update(t.filter, z, sigma);
     const Eigen::Vector2d v = t.filter.velocity();
     if (v.norm() > c.max_speed_m_s) {
@@ -145,7 +151,8 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
   std::erase_if(tracks_, [&](const JointTrack& t) {
     const double missing = stamp_s - t.filter.last_update_s;
     if (t.occupied_scans > c.occupied_max_scans) return true;
-    if (t.reported) return missing > c.delete_after_miss_s;
+    if (t.reported)
+      return missing > c.delete_after_miss_s || stamp_s - t.scored_s > c.carried_max_s;
     return missing > c.tentative_max_miss_s || t.evidence < c.evidence_min;
   });
 
@@ -164,6 +171,7 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
     t.filter = new_filter(t.id, p, stamp_s, sigma);
     t.evidence = evidence;
     t.hits = 1;
+    t.scored_s = stamp_s;
     t.pair_hits = pair ? 1 : 0;
     t.standing_pair_hits = standing ? 1 : 0;
     t.zone_pair_hits = pair && in_zone(p) ? 1 : 0;
@@ -175,7 +183,7 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
   std::vector<std::pair<double, std::pair<int, int>>> pairs;
   for (std::size_t i = 0; i < legs.size(); ++i)
     for (std::size_t j = i + 1; j < legs.size(); ++j) {
-      if (used(int(i)) || used(int(j))) continue;
+      if (used(int(i)) || used(int(j)) || legs[i].carry_only || legs[j].carry_only) continue;
       const double d2 = (legs[i].position_m - legs[j].position_m).squaredNorm();
       if (d2 <= pair2 && capped(legs[i].score) + capped(legs[j].score) > 0)
         pairs.push_back({d2, {int(i), int(j)}});
@@ -193,7 +201,7 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
     out.person_of_leg[std::size_t(i)] = out.person_of_leg[std::size_t(j)] = id;
   }
   for (std::size_t i = 0; i < legs.size(); ++i) {
-    if (used(int(i)) || legs[i].score < c.single_birth_score_min) continue;
+    if (used(int(i)) || legs[i].carry_only || legs[i].score < c.single_birth_score_min) continue;
     if (!free_here(legs[i].position_m)) continue;
     out.person_of_leg[i] = birth(legs[i].position_m, c.single_sigma_m,
                                  c.single_weight * capped(legs[i].score), false, false);

@@ -46,6 +46,40 @@ LegPipeline2D::LegPipeline2D(LegPipeline2DConfig config)
   }
 }
 
+void LegPipeline2D::add_held_legs(
+    std::span<const std::pair<std::size_t, std::size_t>> segments,
+    std::span<const Eigen::Vector2d> pts, std::span<const Eigen::Vector2d> world, bool moving_frame,
+    std::vector<LegObservation>& obs,
+    std::vector<std::pair<std::size_t, std::size_t>>& obs_range) const {
+  if (!(config_.held_leg_chord_max_m > 0)) return;
+  std::vector<Eigen::Vector2d> held;
+  for (const auto& t : persons_joint_.tracks())
+    if (t.reported) held.push_back(t.position());
+  if (held.empty()) return;
+  const auto& jc = config_.joint;
+  const double reach = jc.gate_m + 0.5 * jc.pair_distance_max_m + config_.held_leg_margin_m;
+  const std::size_t given = obs_range.size();  // segments already given to the tracker
+  const StaticBackground& grid = person_grid_ ? person_occupancy_ : occupancy_;
+  for (const auto& [b, e] : segments) {
+    if (std::any_of(obs_range.begin(), obs_range.begin() + std::ptrdiff_t(given),
+                    [&](const auto& r) { return r.first == b; }))
+      continue;
+    const double chord = (pts[e - 1] - pts[b]).norm();
+    if (chord > config_.held_leg_chord_max_m) continue;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (std::size_t k = b; k < e; ++k) mean += world[k];
+    mean /= double(e - b);
+    if (std::none_of(held.begin(), held.end(),
+                     [&](const Eigen::Vector2d& h) { return (h - mean).norm() <= reach; }))
+      continue;
+    const auto seg_world = world.subspan(b, e - b);
+    if (world_background_.is_static(seg_world) || grid.is_static(seg_world)) continue;
+    if (moving_frame && sensor_occupancy_.is_static(pts.subspan(b, e - b))) continue;
+    obs.push_back({mean, 0.0, chord, true});
+    obs_range.emplace_back(b, e);
+  }
+}
+
 LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen::Vector2d> points,
                                            const std::optional<Eigen::Isometry2d>& pose) {
   const auto& dc = config_.detector;
@@ -185,6 +219,9 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     }
   }
   prune(leg_evidence_, legs_);
+  std::vector<std::pair<std::size_t, std::size_t>> obs_range;  // per observation: its segment
+  for (std::size_t k : obs_cand) obs_range.push_back(cand_range[k]);
+  add_held_legs(segments, pts, world, moving_frame, obs, obs_range);
   // Paired legs of this scan (seed 000, step 3 output: per scan, without the occupancy grid's
   // context), for the record.
   {
@@ -200,12 +237,12 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   const auto joint = persons_joint_.update(stamp_s, obs, out.pose,
                                            person_grid_ ? &person_occupancy_ : &occupancy_);
   if (trace)
-    for (std::size_t k = 0; k < obs.size(); ++k)
+    for (std::size_t k = 0; k < obs_cand.size(); ++k)
       out.segments[cand_trace[obs_cand[k]]].person = joint.person_of_leg[k];
   std::vector<Eigen::Vector2d> reported_world;
   for (const auto id : joint.reported) {
     const JointTrack* t = persons_joint_.find(id);
-    out.people.push_back({out.pose.inverse() * t->position(), t->position(), id});
+    out.people.push_back({out.pose.inverse() * t->position(), t->position(), id, t->legs_now > 0});
     reported_world.push_back(t->position());
   }
   persons_.update(stamp_s, reported_world);
@@ -222,7 +259,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     if (!t || !(t->reported || t->zone_pair_hits > 0 ||
                 t->filter.velocity().norm() >= config_.walking_speed_m_s))
       continue;
-    const auto [b, e] = cand_range[obs_cand[k]];
+    const auto [b, e] = obs_range[k];
     std::fill(person_point.begin() + std::ptrdiff_t(b), person_point.begin() + std::ptrdiff_t(e),
               char(1));
   }

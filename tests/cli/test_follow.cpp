@@ -105,6 +105,27 @@ TEST(CliFollow, RejectsUnknownScenarioAndBadDistances) {
   EXPECT_NE(r.output.find("--safe-distance"), std::string::npos) << r.output;
 }
 
+// A planar 2D laser at the mower's mount: persons from the 2D leg pipeline with the shipped
+// classifier (named in summary.json). 12 s of the default lap: measured target chosen after 13
+// frames and held in all 107 since.
+TEST(CliFollow, TwoDimensionalLaserFollowsWithTheShippedLegClassifier) {
+  const auto dir = test::temp_dir("cli_follow_laser2d");
+  auto r = test::run_cli("follow --sensor laser2d --max-time 12 --out " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto s = nlohmann::json::parse(slurp((dir / "summary.json").string()));
+  EXPECT_EQ(s["sensor"], "laser2d");
+  EXPECT_NE(s["detector"].get<std::string>().find("legs_2d_classifier.yaml"), std::string::npos);
+  const auto& m = s["metrics"];
+  EXPECT_GE(m["frames_target_chosen"].get<int>(), 100);
+  EXPECT_EQ(m["frames_target_held"], m["frames_target_chosen"]);
+  EXPECT_EQ(m["frames_moving_below_L_s"].get<int>(), 0);
+  // A leg detector YAML is for 2D scans only.
+  r = test::run_cli("follow --legs-config " + (dir / "x.yaml").string() + " --out " +
+                    (dir / "3d").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--legs-config: only for 2D scans"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace fieldlidar
 

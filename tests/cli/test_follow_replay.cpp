@@ -84,11 +84,13 @@ TEST(CliFollowReplay, StandingRobotWithPeopleAndWithNone) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   auto s = summary_of(dir / "pos");
   EXPECT_EQ(s["motion"], "standing still");
-  // Measured (joint person tracker, ego-motion by scan matching): target chosen after 5 of 175
-  // scans, held in 10.6 % of the scans since, 18 scans following (positive_1/2/4: 6.0 / 25.6 /
-  // 37.2 %).
-  EXPECT_GE(s["metrics"]["target_held_fraction"].get<double>(), 0.09);
-  EXPECT_GE(s["metrics"]["frames_following"].get<int>(), 15);
+  // Measured (joint person tracker, ego-motion by scan matching): target chosen after 15 of 175
+  // scans, held in 75.0 % of the scans since, 99 scans following (positive_1/2/4: 72.0 / 69.2 /
+  // 49.3 %). Before reported persons were also updated by carried legs (leg-sized segments the
+  // classifier did not take, near them) and only persons seen in the scan were driven on: 58.8 %,
+  // 76 scans following (positive_1/2/4 alike).
+  EXPECT_GE(s["metrics"]["target_held_fraction"].get<double>(), 0.70);
+  EXPECT_GE(s["metrics"]["frames_following"].get<int>(), 90);
   // No person in the scene: every scan the mower follows is a false follow. Measured: 0 of 434
   // scans on /right_scan since standing pairs need a person's shape (11 before: two blobs 0.2-0.35
   // m wide, 0.5 m apart, taken for a standing person); 0 on /left_scan and /rear_scan.

@@ -127,3 +127,55 @@ TEST(JointPersonTracker, TimeMustNotGoBack) {
 
 }  // namespace
 }  // namespace fieldlidar::people
+
+namespace fieldlidar::people {
+namespace {
+
+std::vector<LegObservation> carried(std::vector<LegObservation> legs) {
+  for (auto& l : legs) {
+    l.score = 0;
+    l.carry_only = true;
+  }
+  return legs;
+}
+
+// Carried legs (leg-sized segments the classifier did not take, near a reported person: a person
+// followed beyond the classifier's reach) keep a reported person walking away, for at most
+// carried_max_s; they never give birth to a track nor update one not yet reported.
+TEST(JointPersonTracker, CarriedLegsHoldOnlyAReportedPersonAndOnlyForAWhile) {
+  JointTrackerConfig cfg;
+  cfg.carried_max_s = 2.0;
+  JointPersonTracker tracker(cfg);
+  const Eigen::Isometry2d still = Eigen::Isometry2d::Identity();
+  // Walks off at 1 m/s: scored legs for 2 s (reported), then carried legs only.
+  std::uint32_t id = 0;
+  double t = 0;
+  for (int k = 0; k < 20; ++k, t += 0.1) {
+    const auto upd =
+        tracker.update(t, two_legs({2.0 + 0.1 * k, 0.0}, ((k % 6) - 2.5) / 2.5), still);
+    if (!upd.reported.empty()) id = upd.reported[0];
+  }
+  ASSERT_NE(id, 0u);
+  int held = 0;
+  for (int k = 20; k < 60; ++k, t += 0.1) {
+    const Eigen::Vector2d body(2.0 + 0.1 * k, 0.0);
+    const auto upd = tracker.update(t, carried(two_legs(body, ((k % 6) - 2.5) / 2.5)), still);
+    const JointTrack* track = tracker.find(id);
+    if (!track) break;
+    ++held;
+    EXPECT_LT((track->position() - body).norm(), 0.25) << k;  // it follows the carried legs
+    EXPECT_EQ(tracker.tracks().size(), 1u);                   // and they give no other track
+    EXPECT_EQ(upd.reported.size(), 1u);
+  }
+  EXPECT_GE(held, 19);  // carried_max_s (2 s) and no longer
+  EXPECT_LE(held, 21);
+  EXPECT_EQ(tracker.find(id), nullptr);
+
+  // Carried legs alone: no track.
+  JointPersonTracker fresh(cfg);
+  for (int k = 0; k < 30; ++k) fresh.update(0.1 * k, carried(two_legs({3.0, 1.0}, 0.2)), still);
+  EXPECT_TRUE(fresh.tracks().empty());
+}
+
+}  // namespace
+}  // namespace fieldlidar::people

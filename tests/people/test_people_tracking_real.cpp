@@ -18,25 +18,13 @@
 #include "fieldlidar/people/clear_mot.hpp"
 #include "fieldlidar/people/legs_2d_pipeline.hpp"
 #include "legs_data.hpp"
+#include "shipped_legs_2d.hpp"
 
 namespace fieldlidar::people {
 namespace {
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 LegPipeline2DConfig shipped() {
-  const std::string dir = FIELDLIDAR_CONFIG_DIR;
-  LegPipeline2DConfig c;
-  c.detector =
-      legs_config_from_yaml(read_text(dir + "/legs_2d.yaml"), "legs_2d.yaml", default_2d_legs());
-  c.detector.classifier = std::make_shared<const LegClassifier>(leg_classifier_from_yaml(
-      read_text(dir + "/" + c.detector.classifier_file), c.detector.classifier_file));
-  return c;
+  return test::shipped_legs_2d();
 }
 
 struct TrackingScores {
@@ -82,24 +70,27 @@ void print(const TrackingScores& s) {
   print("whole bag", s.whole);
 }
 
-// The shipped settings. Measured: scans 0-436 43 of 133 matched, 7 false persons (0.016 per
-// scan), 0 id switches, MOTA 0.271, recall 0.323, MOTP 0.111 m; scans 437-872 8 false persons
-// (0.018 per scan). Before leg-sized blobs the classifier cannot judge (fewer than 6 returns and
-// wider than 2 cm, or beyond 5 m) were kept out of the person grid (unjudged_occupancy_weight)
-// and a reported person's own returns out of the grids while no leg updated it
-// (held_person_radius_m): 2 matched, 1 false person, MOTA 0.008; the standing people the robot
-// drives towards had filled the grid as 1-5-point blobs at 5-8 m before their legs scored as
-// legs. With those and a tentative track's 0.35 s to live: 39 matched, MOTA 0.248.
+// The shipped settings. Measured: scans 0-436 45 of 133 matched, 7 false persons (0.016 per
+// scan), 0 id switches, MOTA 0.286, recall 0.338, MOTP 0.078 m; scans 437-872 8 false persons
+// (0.018 per scan). Before reported persons were also updated by carried legs (leg-sized
+// segments the classifier did not take, near them: LegPipeline2DConfig::held_leg_chord_max_m):
+// 43 matched, MOTA 0.271, MOTP 0.111 m, the same false persons. Before leg-sized blobs the
+// classifier cannot judge (fewer than 6 returns and wider than 2 cm, or beyond 5 m) were kept out
+// of the person grid (unjudged_occupancy_weight) and a reported person's own returns out of the
+// grids while no leg updated it (held_person_radius_m): 2 matched, 1 false person, MOTA 0.008; the
+// standing people the robot drives towards had filled the grid as 1-5-point blobs at 5-8 m before
+// their legs scored as legs. With those and a tentative track's 0.35 s to live: 39 matched, MOTA
+// 0.248.
 TEST(PeopleTrackingReal, MovingRobotBenchmarkBag) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d_tracking/general_tracking_moving_1.bag");
   const auto s = score_tracking_bag(shipped());
   print(s);
   EXPECT_EQ(s.whole.truth, 133u);
   EXPECT_EQ(s.tuned.truth, 133u);
-  EXPECT_GE(s.tuned.matches, 43u);
-  EXPECT_GE(s.tuned.mota(), 0.265);
+  EXPECT_GE(s.tuned.matches, 45u);
+  EXPECT_GE(s.tuned.mota(), 0.28);
   EXPECT_LE(s.tuned.false_positives, 8u);
-  EXPECT_LT(s.tuned.motp_m(), 0.12);
+  EXPECT_LT(s.tuned.motp_m(), 0.09);
   EXPECT_EQ(s.whole.id_switches, 0u);
   EXPECT_LE(s.held_out.false_positives, 10u);
 }

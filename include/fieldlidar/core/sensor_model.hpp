@@ -8,12 +8,15 @@
 
 namespace fieldlidar {
 
-/// A spinning multi-beam LiDAR (or a 2D laser tilted through elevations, see tilting_2d()).
+/// A spinning multi-beam LiDAR, a 2D laser tilted through elevations (tilting_2d()) or a fixed
+/// planar 2D laser (laser_2d()).
 ///
 /// Ring i is the beam with the i-th smallest elevation: ring 0 looks lowest. Angles in radians,
 /// elevation positive above the sensor's x-y plane, azimuth counter-clockwise from +x.
 struct SensorModel {
-  enum class Kind { kSpinning, kTilting2D };
+  /// kTilting2D and kPlanar2D scan a fan centred on +x, right to left (a planar laser is a
+  /// tilting one with a single plane at elevation 0).
+  enum class Kind { kSpinning, kTilting2D, kPlanar2D };
 
   std::string name;
   Kind kind = Kind::kSpinning;
@@ -56,11 +59,18 @@ struct SensorModel {
   static SensorModel tilting_2d(int planes = 60, double min_tilt_rad = -0.35,
                                 double max_tilt_rad = 0.7, int columns = 1081,
                                 double scan_fov_rad = 4.71238898038469);
+  /// A fixed planar 2D laser scanner (one ring at elevation 0): `columns` samples over
+  /// `scan_fov_rad` centred on +x. The default is a leg-height safety laser class: 270 deg at
+  /// 0.3516 deg steps (the spacing of the legs_2d bags' laser, which the shipped 2D leg classifier
+  /// learned), 10 scans/s, 0.05-30 m, 1 cm noise.
+  static SensorModel laser_2d(int columns = 768, double scan_fov_rad = 4.71238898038469,
+                              double rate_hz = 10.0, double max_range_m = 30.0);
   /// A sensor described by its beam elevations (any order; sorted ascending into rings).
   static SensorModel from_beam_angles(std::string name, std::vector<double> altitudes_rad,
                                       int columns, double rotation_rate_hz = 10.0,
                                       double min_range_m = 0.5, double max_range_m = 100.0);
-  /// Preset by name: vlp16, vlp32c, hdl32e, hdl64e, os1-64, os1-128, os2-128, tilting2d.
+  /// Preset by name: vlp16, vlp32c, hdl32e, hdl64e, os1-64, os1-128, os2-128, tilting2d,
+  /// laser2d.
   static std::optional<SensorModel> preset(const std::string& name);
   static std::vector<std::string> preset_names();
 };

@@ -21,6 +21,7 @@
 #include "fieldlidar/follow/pipeline.hpp"
 #include "fieldlidar/loops/pose_source.hpp"
 #include "fieldlidar/odometry/lidar_odometry.hpp"
+#include "fieldlidar/people/legs_2d_pipeline.hpp"
 #include "fieldlidar/sim/scene.hpp"
 #include "fieldlidar/sim/scenes.hpp"
 
@@ -46,6 +47,12 @@ struct ClosedLoopConfig {
   /// and the sensor).
   odometry::OdometryConfig odometry;
   MotionStreamsConfig streams;  ///< the IMU and wheel streams given to the odometry
+  /// A planar 2D laser (SensorModel::Kind::kPlanar2D) is perceived by the 2D leg pipeline (the
+  /// caller sets its detector and classifier, e.g. the shipped legs_2d.yaml), whose persons go
+  /// through the follow pipeline's tracking, target choice and controller. Its odometry is the
+  /// wheels with a gyro (DeadReckoningPoseSource: the 3D LiDAR odometry needs rings, and 2D
+  /// scan matching finds too little on an open lawn).
+  people::LegPipeline2DConfig legs_2d;
 };
 
 /// One row of follow_log.csv.
@@ -81,6 +88,8 @@ struct ClosedLoopResult {
   follow::PolygonDistance boundary_error;   ///< recorded polygon vs operator_loop
   std::size_t frames_moving_too_close = 0;  ///< wheels turning while the true L < L_s
   std::size_t frames_following = 0;
+  /// Frames from the first target choice on, and those of them with the target tracked.
+  std::size_t frames_target_chosen = 0, frames_target_held = 0;
   std::size_t target_switches = 0;    ///< changes of the target id after the first choice
   std::size_t frames_target_off = 0;  ///< following while the estimate is > 0.5 m off the operator
   std::optional<std::uint32_t> first_target_id;

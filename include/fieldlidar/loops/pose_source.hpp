@@ -66,6 +66,29 @@ class OdometryPoseSource {
   std::uint64_t periods_ = 0;
 };
 
+/// Wheel odometry with a gyro as the pose source of a mower that has no multi-beam LiDAR (a 2D
+/// laser at leg height sees too little of an open lawn to match scans): per period the wheels'
+/// forward speed and the gyro's yaw rate (the simulated streams: slip, noise, a constant gyro
+/// bias drawn once) integrated from the start pose, the origin of the odometry frame. The gyro's
+/// bias is the mean of its readings while the wheels stand still (the mower waits for its
+/// operator before it drives), subtracted from then on.
+class DeadReckoningPoseSource {
+ public:
+  explicit DeadReckoningPoseSource(const MotionStreamsConfig& streams);
+  /// Integrates the streams of [t0_s, t1_s) simulated from the true base pose function; the
+  /// base's planar pose at t1_s in the odometry frame.
+  follow::Pose2 advance(const std::function<Pose(double)>& T_world_base, double t0_s, double t1_s);
+  const follow::Pose2& pose() const { return pose_; }
+
+ private:
+  MotionStreamsConfig streams_;
+  double gyro_bias_z_rad_s_ = 0;  ///< the simulated gyro's true bias
+  double still_gyro_sum_ = 0;     ///< gyro readings while standing still, summed
+  std::size_t still_samples_ = 0;
+  std::uint64_t periods_ = 0;
+  follow::Pose2 pose_;
+};
+
 /// The planar pose (x, y, yaw) of a 3D pose.
 follow::Pose2 planar(const Pose& T);
 

@@ -82,6 +82,10 @@ struct JointTrackerConfig {
   double birth_min_separation_m = 0.45;
   /// Consecutive scans on occupied cells after which a track is dropped.
   int occupied_max_scans = 3;
+  /// A reported person updated by carried legs alone (LegObservation::carry_only) for longer
+  /// than this is dropped (s): they keep a person followed out of the classifier's reach, not
+  /// a track left on clutter.
+  double carried_max_s = 4.0;
 };
 
 /// A leg of this scan, fixed frame.
@@ -89,6 +93,9 @@ struct LegObservation {
   Eigen::Vector2d position_m = Eigen::Vector2d::Zero();
   double score = 1.0;    ///< > 0: a leg by this scan alone (classifier score minus its threshold)
   double width_m = 0.0;  ///< distance between the end points of its segment (0 = unknown)
+  /// A leg-sized segment the classifier did not take, near a reported person: it may update a
+  /// reported person (never another track, never a birth) and adds no confidence.
+  bool carry_only = false;
 };
 
 struct JointTrack {
@@ -98,6 +105,7 @@ struct JointTrack {
   int hits = 0, pair_hits = 0, zone_pair_hits = 0;
   int standing_pair_hits = 0;  ///< paired detections with a standing person's shape
   int occupied_scans = 0;
+  double scored_s = 0;  ///< last update by a leg the classifier took (s)
   Eigen::Vector2d born_m = Eigen::Vector2d::Zero();
   double travel_m = 0;  ///< farthest distance from born_m so far
   bool reported = false;

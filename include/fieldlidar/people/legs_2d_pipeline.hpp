@@ -172,6 +172,15 @@ struct LegPipeline2DConfig {
   /// A leg carried by its track's evidence through a scan where its own score is not above the
   /// classifier's threshold counts with this score in the person tracker.
   double carried_leg_score = 0.3;
+  /// Leg-sized segments the person tracker's candidates left out (the classifier's score too
+  /// low: beyond its 5.1 m, edge-on, half hidden) whose end points are at most this far apart
+  /// (m; 0 = off) and that lie within the tracker's reach of a reported person (its gate plus
+  /// half a pair, plus `held_leg_margin_m`), off the background and the occupancy grids, may
+  /// update that person as carried legs (LegObservation::carry_only: no confidence, no
+  /// births): an operator followed beyond the classifier's range or seen edge-on keeps the
+  /// track (JointTrackerConfig::carried_max_s bounds how long).
+  double held_leg_chord_max_m = 0.4;
+  double held_leg_margin_m = 0.25;
   /// The returns of a person track at least this fast are kept out of the occupancy grid (m/s).
   double walking_speed_m_s = 1.0;
   /// People: the legs tracked jointly (joint_person_tracker.hpp). A pair that does not walk
@@ -239,6 +248,9 @@ struct PipelinePerson {
   Eigen::Vector2d position_m = Eigen::Vector2d::Zero();        ///< sensor frame, this scan
   Eigen::Vector2d position_world_m = Eigen::Vector2d::Zero();  ///< fixed frame
   std::uint32_t track = 0;                                     ///< person track id
+  /// Updated by a leg in this scan; false while the report coasts over a scan without legs
+  /// (JointTrackerConfig::report_coast_s), which a follower must not drive on.
+  bool seen = true;
 };
 
 struct LegPipeline2DOutput {
@@ -269,6 +281,14 @@ class LegPipeline2D {
   const LegPipeline2DConfig& config() const { return config_; }
 
  private:
+  /// Carried legs (held_leg_chord_max_m) appended to `obs`: the segments not given to the
+  /// person tracker, leg-sized, near a reported person, off the background and occupied space;
+  /// `obs_range` (one segment per observation) grows with them.
+  void add_held_legs(std::span<const std::pair<std::size_t, std::size_t>> segments,
+                     std::span<const Eigen::Vector2d> pts, std::span<const Eigen::Vector2d> world,
+                     bool moving_frame, std::vector<LegObservation>& obs,
+                     std::vector<std::pair<std::size_t, std::size_t>>& obs_range) const;
+
   LegPipeline2DConfig config_;
   ScanOdometry2D odometry_;
   StaticBackground world_background_, sensor_background_, occupancy_, sensor_occupancy_;

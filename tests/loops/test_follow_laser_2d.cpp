@@ -1,0 +1,90 @@
+// The seed 000 follow loop with a planar 2D laser at the mower's 0.45 m mount instead of a
+// multi-beam LiDAR (SensorModel::laser_2d: 270 deg at the legs_2d bags' 0.35 deg steps): persons
+// from people::LegPipeline2D with the shipped classifier (learned from the real legs_2d bags),
+// the mower's pose from its wheels and gyro (DeadReckoningPoseSource). The operator walks the
+// lawn's outline 3 m ahead at 1 m/s, beyond the classifier's 5.1 m reach whenever the mower lags.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "../people/shipped_legs_2d.hpp"
+#include "fieldlidar/loops/closed_loop.hpp"
+#include "fieldlidar/sim/lidar_simulator.hpp"
+#include "seed_targets.hpp"
+
+namespace fieldlidar::loops {
+namespace {
+
+ClosedLoopResult run_2d(Scenario s) {
+  const auto scene = sim::make_lawn_scene(lawn_config(s), 0);
+  ClosedLoopConfig cfg;
+  cfg.legs_2d = fieldlidar::test::shipped_legs_2d();
+  auto r = run_closed_loop(scene, SensorModel::laser_2d(), cfg);
+  std::printf(
+      "%s, 2D laser: frames %zu target chosen %zu held %zu following %zu stopped_by_command %d "
+      "boundary mean %.3f m hausdorff %.3f m switches %zu off %zu occlusions %zu stop_delay %d "
+      "resume_delay %d ATE %.3f m perception %.3f ms\n",
+      to_string(s).c_str(), r.rows.size(), r.frames_target_chosen, r.frames_target_held,
+      r.frames_following, int(r.stopped_by_command), r.boundary_error.mean_m,
+      r.boundary_error.hausdorff_m, r.target_switches, r.frames_target_off, r.occlusions,
+      r.max_stop_delay_frames, r.max_resume_delay_frames,
+      r.odometry_accuracy ? r.odometry_accuracy->ate_unaligned.translation_m.rmse : NAN,
+      r.mean_perception_ms);
+  return r;
+}
+
+TEST(FollowLaser2D, ScansAreOnePlaneAcrossTheFieldOfView) {
+  const auto scene = sim::make_lawn_scene(lawn_config(Scenario::kDefault), 0);
+  const auto sensor = SensorModel::laser_2d();
+  const sim::LidarSimulator lidar(scene, sensor);
+  const auto frame = lidar.scan(0.0, [&](double) { return make_pose(1.0, 1.0, 0.45, 0, 0, 0); });
+  ASSERT_GT(frame.cloud.size(), 100u);
+  double min_bearing = 0, max_bearing = 0;
+  for (const auto& p : frame.cloud.points) {
+    EXPECT_EQ(p.ring, 0);
+    EXPECT_NEAR(p.z, 0.0, 0.05);  // range noise along a level beam only
+    const double b = std::atan2(p.y, p.x);
+    min_bearing = std::min(min_bearing, b);
+    max_bearing = std::max(max_bearing, b);
+  }
+  std::printf("bearings %.3f .. %.3f rad\n", min_bearing, max_bearing);
+  EXPECT_GT(max_bearing, 1.7);  // returns from beside and behind the mower: wider than 180 deg
+  EXPECT_LT(min_bearing, -1.7);
+  EXPECT_LE(std::max(max_bearing, -min_bearing), 0.75 * M_PI + 1e-3);
+  // The operator, 3 m ahead, returns about 10 points.
+  ASSERT_FALSE(frame.people.empty());
+  EXPECT_GE(frame.people[0].points, 8u);
+}
+
+// Measured: target chosen after 13 of 707 frames (1.3 s: the operator walks from the start),
+// held in all 694 since, the lap closed by the stop command, boundary mean 0.019 m, Hausdorff
+// 0.27 m, odometry ATE 0.043 m (the gyro's bias learned while the mower waited). Without the
+// carried legs (LegPipeline2DConfig::held_leg_chord_max_m 0) the operator is lost for good after
+// 3.5 s, when the mower lagged to 5.5 m and the classifier's first stump (5.1 m) dropped the
+// legs: held in 79 of 1300 frames, like the 9 % measured on a real follow recording.
+TEST(FollowLaser2D, DefaultLapHeldThroughoutAndTheSeedTargetsMet) {
+  const auto r = run_2d(Scenario::kDefault);
+  test::expect_seed_000_lap_targets(r);
+  EXPECT_LE(r.rows.size() - r.frames_target_chosen, 20u);
+  EXPECT_EQ(r.frames_target_held, r.frames_target_chosen);
+  ASSERT_TRUE(r.odometry_accuracy.has_value());
+  EXPECT_LT(r.odometry_accuracy->ate_unaligned.translation_m.rmse, 0.1);
+}
+
+// The detour behind the shed: the mower stops at the first frame the operator is not seen (a
+// coasted report is not driven on). Measured: 4 occlusions, stop delay 1 frame, moved again 12
+// frames after the operator came back into view; no false follow.
+TEST(FollowLaser2D, OccludedOperatorStopsTheMowerWithinOneFrame) {
+  const auto r = run_2d(Scenario::kOccluded);
+  EXPECT_GE(r.occlusions, 1u);
+  EXPECT_GE(r.max_stop_delay_frames, 0);
+  EXPECT_LE(r.max_stop_delay_frames, 1);
+  EXPECT_EQ(r.frames_target_off, 0u);
+  EXPECT_EQ(r.target_switches, 0u);
+  EXPECT_EQ(r.frames_moving_too_close, 0u);
+}
+
+}  // namespace
+}  // namespace fieldlidar::loops
