@@ -114,7 +114,7 @@ void run_follow(const FollowOptions& o) {
   const auto scenario = loops::scenario_from_string(o.scenario);
   if (!scenario)
     throw Error("--scenario '" + o.scenario +
-                "': expected default, crossing, stop, fast, occluded or standing-start");
+                "': expected default, crossing, stop, fast, occluded, standing-start or rough");
   const auto pose_source = loops::pose_source_from_string(o.pose_source);
   if (!pose_source)
     throw Error("--pose-source '" + o.pose_source + "': expected odometry or truth");
@@ -250,7 +250,7 @@ void add_follow_command(CLI::App& app) {
                   "leg pipeline")
       ->capture_default_str();
   cmd->add_option("--scenario", o->scenario,
-                  "default, crossing, stop, fast, occluded or standing-start")
+                  "default, crossing, stop, fast, occluded, standing-start or rough")
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "Scene seed")
       ->capture_default_str()

@@ -94,9 +94,11 @@ std::optional<std::uint32_t> person_ahead(const people::PersonTracker& tracker, 
 people::LegDetection detect_people_3d(const PointCloud& cloud,
                                       std::span<const std::vector<std::uint32_t>> clusters,
                                       const SensorModel& sensor, double sensor_height_m,
-                                      const FollowConfig& config) {
+                                      const FollowConfig& config,
+                                      const Eigen::Matrix3d& level_from_lidar) {
   auto det = people::detect_legs_3d(cloud, clusters, legs_for_sensor(config.legs, sensor));
-  const auto body = people::person_bodies(cloud, sensor, sensor_height_m, det.people, config.body);
+  const auto body = people::person_bodies(cloud, sensor, sensor_height_m, det.people, config.body,
+                                          level_from_lidar);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < det.people.size(); ++k)
     if (body[k]) det.people[kept++] = det.people[k];
@@ -104,16 +106,33 @@ people::LegDetection detect_people_3d(const PointCloud& cloud,
   return det;
 }
 
-Perception perceive(const PointCloud& cloud, const SensorModel& sensor, const Pose& T_world_lidar,
-                    const FollowConfig& config) {
+Perception perceive(const PointCloud& cloud_lidar, const SensorModel& sensor,
+                    const Pose& T_world_lidar, const FollowConfig& config) {
   Perception out;
+  // The sweep levelled by the pose's roll and pitch (heading kept): the leg band and the body
+  // check measure heights from a level plane through the ground under the mower, not from the
+  // sensor's own x-y plane, which a mower pitched 5 deg on rough ground tilts by 0.6 m at 7 m.
+  const Pose T_world_level =
+      make_pose(T_world_lidar.translation().x(), T_world_lidar.translation().y(),
+                T_world_lidar.translation().z(), 0, 0, yaw_of(T_world_lidar));
+  const Pose T_level_lidar = T_world_level.inverse() * T_world_lidar;
+  PointCloud cloud = cloud_lidar;
+  if (!T_level_lidar.linear().isIdentity(1e-9))
+    for (auto& p : cloud.points) {
+      if (!p.is_valid()) continue;
+      const Eigen::Vector3f q = T_level_lidar.linear().cast<float>() * p.xyz();
+      p.x = q.x();
+      p.y = q.y();
+      p.z = q.z();
+    }
   const auto indices =
       leg_band_clusters(cloud, sensor, config, &out.sensor_height_m, &out.ground_points);
   out.clusters = indices.size();
   // Step 3: leg arcs on several rings, legs paired into people with a body above.
-  const auto det = detect_people_3d(cloud, indices, sensor, out.sensor_height_m, config);
+  const auto det =
+      detect_people_3d(cloud, indices, sensor, out.sensor_height_m, config, T_level_lidar.linear());
   auto to_world = [&](const Eigen::Vector2d& p) {
-    return (T_world_lidar * Eigen::Vector3d(p.x(), p.y(), 0.0)).head<2>().eval();
+    return (T_world_level * Eigen::Vector3d(p.x(), p.y(), 0.0)).head<2>().eval();
   };
   for (const auto& l : det.legs) out.legs_m.push_back(to_world(l.position_m));
   for (const auto& p : det.people) out.people_m.push_back(to_world(p.position_m));

@@ -18,13 +18,14 @@ using follow::WheelCommand;
 
 namespace {
 
+/// The mower's base resting on the ground under its wheels (pitched and rolled with it).
 Pose base_pose(const sim::Scene& scene, const Pose2& m) {
-  return make_pose(m.x_m, m.y_m, scene.ground_height_at(m.xy()), 0, 0, m.yaw_rad);
+  return sim::pose_on_ground(scene, m.xy(), m.yaw_rad);
 }
 
+/// The sensor on its mast, straight up from the base.
 Pose lidar_pose(const sim::Scene& scene, const Pose2& m) {
-  const double z = scene.ground_height_at(m.xy()) + scene.sensor_height_m();
-  return make_pose(m.x_m, m.y_m, z, 0, 0, m.yaw_rad);
+  return base_pose(scene, m) * make_pose(0, 0, scene.sensor_height_m(), 0, 0, 0);
 }
 
 Eigen::Isometry2d isometry_2d(const Pose2& p) {
@@ -137,7 +138,11 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
     PointCloud cloud;
     LogRow row;
     if (dead_reckoning) {
-      if (k == 0) T_frame_world = T0.inverse();
+      // The wheels and gyro give a level frame: the first lidar pose's position and heading.
+      if (k == 0) {
+        const Eigen::Vector3d o = T0.translation();
+        T_frame_world = make_pose(o.x(), o.y(), o.z(), 0, 0, yaw_of(T0)).inverse();
+      }
       T0_used = flat_pose(dead_reckoning->pose());
       const MowerSegment relative{{}, t0, v, dv, b};
       cloud = deskew(

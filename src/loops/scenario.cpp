@@ -20,13 +20,15 @@ std::string to_string(Scenario s) {
       return "occluded";
     case Scenario::kStandingStart:
       return "standing-start";
+    case Scenario::kRough:
+      return "rough";
   }
   return "default";
 }
 
 std::optional<Scenario> scenario_from_string(const std::string& n) {
   for (auto s : {Scenario::kDefault, Scenario::kCrossing, Scenario::kStop, Scenario::kFast,
-                 Scenario::kOccluded, Scenario::kStandingStart})
+                 Scenario::kOccluded, Scenario::kStandingStart, Scenario::kRough})
     if (to_string(s) == n) return s;
   return std::nullopt;
 }
@@ -37,6 +39,7 @@ sim::LawnConfig lawn_config(Scenario s) {
   c.operator_stops = s == Scenario::kStop;
   c.operator_too_fast = s == Scenario::kFast;
   c.operator_behind_shed = s == Scenario::kOccluded;
+  if (s == Scenario::kRough) c.roughness_m = 0.06;  // tussocks and ruts: the mower pitches ~5 deg
   if (s == Scenario::kStandingStart) {
     // Within the follow distance, so that the mower has no reason to move before the first step.
     c.operator_waits_at_start = true;

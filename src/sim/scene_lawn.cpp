@@ -66,11 +66,22 @@ Scene make_lawn_scene(const LawnConfig& cfg, std::uint64_t seed) {
   const double ph1 = 2 * std::numbers::pi * uni(rng), ph2 = 2 * std::numbers::pi * uni(rng),
                ph3 = 2 * std::numbers::pi * uni(rng);
   const double a = cfg.undulation_m;
-  // Gentle waves (wavelengths 18-40 m) and a 4 cm drop from the mown lawn to its surroundings.
+  // The bumps' phases from a generator of their own: the rest of the scene stays as without.
+  std::mt19937_64 bump_rng(seed * 7919 + 2);
+  const double pb1 = 2 * std::numbers::pi * uni(bump_rng),
+               pb2 = 2 * std::numbers::pi * uni(bump_rng),
+               pb3 = 2 * std::numbers::pi * uni(bump_rng);
+  // Gentle waves (wavelengths 18-40 m), short bumps, and a 4 cm drop from the mown lawn to its
+  // surroundings.
   const auto height = [&](double x, double y) {
     const double wave = a * (0.6 * std::sin(0.35 * x + ph1) * std::cos(0.28 * y + ph2) +
                              0.4 * std::sin(0.15 * x + 0.2 * y + ph3));
-    return wave - (lawn.inside(x, y) ? 0.0 : 0.04);
+    const double bumps =
+        cfg.roughness_m > 0
+            ? cfg.roughness_m * (0.6 * std::sin(2.4 * x + pb1) * std::cos(2.1 * y + pb2) +
+                                 0.4 * std::sin(1.7 * x - 2.9 * y + pb3))
+            : 0.0;
+    return wave + bumps - (lawn.inside(x, y) ? 0.0 : 0.04);
   };
   const Eigen::Vector2d min(-8.0, -8.0), max(cfg.length_m + 10.0, cfg.width_m + 3.0 + 8.0);
   Scene scene(SceneKind::kLawn, HeightField(min, max, 0.25, height), seed);

@@ -27,7 +27,9 @@ TEST(PoseSource, NamesRoundTrip) {
   EXPECT_EQ(ClosedLoopConfig{}.pose_source, PoseSource::kOdometry);
 }
 
-// Measured (Release): 40 frames, the mower drives ~1.5 m; odometry ATE 3 mm.
+// Measured (Release): 40 frames, the mower drives 3.3 m; odometry ATE 33 mm (3 mm over 1.5 m
+// before the mower rested tilted on the lawn's waves; the whole default lap's ATE is 0.039 m
+// either way).
 TEST(PoseSource, OdometryFrameIsTheFirstLidarPoseAndTruthIsExpressedInIt) {
   const auto odo = short_run(PoseSource::kOdometry);
   const auto truth = short_run(PoseSource::kTruth);
@@ -38,13 +40,14 @@ TEST(PoseSource, OdometryFrameIsTheFirstLidarPoseAndTruthIsExpressedInIt) {
   EXPECT_TRUE(odo.lidar_poses_used.front().matrix().isIdentity(1e-9));
   EXPECT_TRUE(truth.T_world_frame.matrix().isIdentity(0));
   EXPECT_TRUE(odo.T_world_frame.isApprox(truth.lidar_poses_true.front(), 1e-9));
-  // The operator's loop mapped back into the world is the scene's.
+  // The operator's loop mapped back into the world is the scene's (to a centimetre: the frame
+  // is the first lidar pose, tilted with the ground under the mower, and the loop is kept as x-y).
   ASSERT_EQ(odo.operator_loop.size(), truth.operator_loop.size());
   for (std::size_t i = 0; i < odo.operator_loop.size(); ++i) {
     const Eigen::Vector3d p =
         odo.T_world_frame * Eigen::Vector3d(odo.operator_loop[i].x(), odo.operator_loop[i].y(), 0);
-    EXPECT_NEAR(p.x(), truth.operator_loop[i].x(), 1e-9);
-    EXPECT_NEAR(p.y(), truth.operator_loop[i].y(), 1e-9);
+    EXPECT_NEAR(p.x(), truth.operator_loop[i].x(), 0.01);
+    EXPECT_NEAR(p.y(), truth.operator_loop[i].y(), 0.01);
   }
   // The mower moved and the odometry followed it to within centimetres.
   const Eigen::Vector2d moved(odo.rows.back().mower_x, odo.rows.back().mower_y);
@@ -54,7 +57,7 @@ TEST(PoseSource, OdometryFrameIsTheFirstLidarPoseAndTruthIsExpressedInIt) {
               std::hypot(odo.rows.back().mower_est_x - odo.rows.back().mower_x,
                          odo.rows.back().mower_est_y - odo.rows.back().mower_y));
   ASSERT_TRUE(odo.odometry_accuracy.has_value());
-  EXPECT_LT(odo.odometry_accuracy->ate_unaligned.translation_m.rmse, 0.03);
+  EXPECT_LT(odo.odometry_accuracy->ate_unaligned.translation_m.rmse, 0.05);
   EXPECT_EQ(odo.odometry_unregistered, 0u);
   EXPECT_NEAR(odo.rows.back().mower_est_x, odo.rows.back().mower_x, 0.05);
   EXPECT_NEAR(odo.rows.back().mower_est_y, odo.rows.back().mower_y, 0.05);

@@ -80,11 +80,12 @@ people::LegDetectorConfig legs_for_sensor(const people::LegDetectorConfig& legs,
 
 /// Step 3: leg arcs on several rings of the leg band's `clusters`, legs paired into people, and
 /// of those the pairs with a person's body above (config.body); lidar frame, the ground
-/// `sensor_height_m` below the sensor.
-people::LegDetection detect_people_3d(const PointCloud& cloud_lidar,
-                                      std::span<const std::vector<std::uint32_t>> clusters,
-                                      const SensorModel& sensor, double sensor_height_m,
-                                      const FollowConfig& config);
+/// `sensor_height_m` below the sensor. A cloud levelled from a tilted sensor's frame passes the
+/// rotation (`level_from_lidar`): its beams cross the body's bands at other heights.
+people::LegDetection detect_people_3d(
+    const PointCloud& cloud_lidar, std::span<const std::vector<std::uint32_t>> clusters,
+    const SensorModel& sensor, double sensor_height_m, const FollowConfig& config,
+    const Eigen::Matrix3d& level_from_lidar = Eigen::Matrix3d::Identity());
 
 /// Steps 1-3: ground, clusters, leg arcs and pairing for a sweep in the lidar frame (de-skewed to
 /// `T_world_lidar`), results transformed into the world frame.

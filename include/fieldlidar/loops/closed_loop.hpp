@@ -28,9 +28,12 @@
 namespace fieldlidar::loops {
 
 /// kStandingStart: the operator stands still 2 m in front of the mower for 5 s, then walks off.
-enum class Scenario { kDefault, kCrossing, kStop, kFast, kOccluded, kStandingStart };
+/// kRough: the default walk over rough ground (sim::LawnConfig::roughness_m 0.06 m): the mower,
+/// resting on its wheels, pitches and rolls by up to ~5 deg, and so does its sensor.
+enum class Scenario { kDefault, kCrossing, kStop, kFast, kOccluded, kStandingStart, kRough };
 std::string to_string(Scenario s);
-/// "default", "crossing", "stop", "fast", "occluded", "standing-start"; nullopt otherwise.
+/// "default", "crossing", "stop", "fast", "occluded", "standing-start", "rough"; nullopt
+/// otherwise.
 std::optional<Scenario> scenario_from_string(const std::string& name);
 /// The lawn scene options of a scenario.
 sim::LawnConfig lawn_config(Scenario s);

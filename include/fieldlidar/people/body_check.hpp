@@ -9,6 +9,8 @@
 #include <span>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "fieldlidar/core/point_cloud.hpp"
 #include "fieldlidar/core/sensor_model.hpp"
 #include "fieldlidar/people/leg_detector.hpp"
@@ -31,8 +33,11 @@ struct BodyCheckConfig {
 /// Per person of `people` (positions in the frame of `cloud`, the sensor at its origin and the
 /// ground `sensor_height_m` below it): 1 when it has a person's body by the rules above, 0 when
 /// not. All 1 when the check is off. `cloud` needs its ring field (rings as in `sensor`).
-std::vector<char> person_bodies(const PointCloud& cloud, const SensorModel& sensor,
-                                double sensor_height_m, std::span<const Person> people,
-                                const BodyCheckConfig& config = {});
+/// `level_from_lidar`: the rotation that levelled `cloud` from the sensor's frame (a pitched or
+/// rolled sensor's beams cross the bands at other heights).
+std::vector<char> person_bodies(
+    const PointCloud& cloud, const SensorModel& sensor, double sensor_height_m,
+    std::span<const Person> people, const BodyCheckConfig& config = {},
+    const Eigen::Matrix3d& level_from_lidar = Eigen::Matrix3d::Identity());
 
 }  // namespace fieldlidar::people

@@ -14,6 +14,9 @@ struct LawnConfig {
   double length_m = 24.0;
   double width_m = 14.0;
   double undulation_m = 0.08;       ///< amplitude of the gentle ground waves
+  /// Amplitude of short bumps (tussocks, ruts; 2-4 m wavelengths, slopes up to ~8 deg at
+  /// 0.06 m) over the whole scene (m; 0 = a mown lawn).
+  double roughness_m = 0.0;
   double edge_inset_m = 1.0;        ///< the operator walks this far inside the lawn edge
   double operator_speed_m_s = 1.0;  ///< 0.5 .. 1.5 normal walking
   double operator_start_m = 3.0;    ///< operator's start, arc length ahead of the robot's start
