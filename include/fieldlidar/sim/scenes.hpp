@@ -13,7 +13,7 @@ namespace fieldlidar::sim {
 struct LawnConfig {
   double length_m = 24.0;
   double width_m = 14.0;
-  double undulation_m = 0.08;       ///< amplitude of the gentle ground waves
+  double undulation_m = 0.08;  ///< amplitude of the gentle ground waves
   /// Amplitude of short bumps (tussocks, ruts; 2-4 m wavelengths, slopes up to ~8 deg at
   /// 0.06 m) over the whole scene (m; 0 = a mown lawn).
   double roughness_m = 0.0;
