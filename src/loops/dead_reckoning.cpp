@@ -3,35 +3,21 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 
 #include "fieldlidar/loops/pose_source.hpp"
 
 namespace fieldlidar::loops {
 
 DeadReckoningPoseSource::DeadReckoningPoseSource(const MotionStreamsConfig& streams)
-    : streams_(streams) {
-  // One gyro for the whole drive: its bias is drawn once (as OdometryPoseSource draws it).
-  std::mt19937_64 rng(streams.imu.seed);
-  std::normal_distribution<double> n01(0.0, 1.0);
-  for (int i = 0; i < 3; ++i) {
-    const double b = streams.imu.gyro_bias_sigma_rad_s * n01(rng);
-    if (i == 2) gyro_bias_z_rad_s_ = b;
-  }
-}
+    : streams_(streams) {}
 
 follow::Pose2 DeadReckoningPoseSource::advance(const std::function<Pose(double)>& T_world_base,
                                                double t0_s, double t1_s) {
-  const std::uint64_t k = ++periods_;
-  sim::ImuConfig imu = streams_.imu;
-  imu.gyro_bias_sigma_rad_s = 0;
-  imu.accel_bias_sigma_m_s2 = 0;
-  imu.seed = streams_.imu.seed + 0x9E3779B97F4A7C15ull * k;
-  sim::WheelOdometryConfig wheels = streams_.wheels;
-  wheels.seed = streams_.wheels.seed + 0x9E3779B97F4A7C15ull * k;
-  const auto gyro = sim::simulate_imu(T_world_base, t0_s, t1_s - 0.5 / imu.rate_hz, imu);
-  const auto wheel =
-      sim::simulate_wheel_odometry(T_world_base, t0_s, t1_s - 0.5 / wheels.rate_hz, wheels);
+  const auto period = streams_.next(T_world_base, t0_s, t1_s);
+  const auto& gyro = period.imu;
+  const auto& wheel = period.wheels;
+  const auto& wheels = streams_.config().wheels;
+  const auto& imu = streams_.config().imu;
   // A period the wheels stand still in (speeds within 4 sigma of their noise) teaches the
   // gyro's bias: it reads the bias alone.
   const double still_m_s = 4 * wheels.noise_m_s;
@@ -40,11 +26,11 @@ follow::Pose2 DeadReckoningPoseSource::advance(const std::function<Pose(double)>
   });
   if (still)
     for (const auto& s : gyro) {
-      still_gyro_sum_ += s.gyro_rad_s.z() + gyro_bias_z_rad_s_;
+      still_gyro_sum_ += s.gyro_rad_s.z();
       ++still_samples_;
     }
   const double bias = still_samples_ ? still_gyro_sum_ / double(still_samples_) : 0.0;
-  auto rate = [&](std::size_t g) { return gyro[g].gyro_rad_s.z() + gyro_bias_z_rad_s_ - bias; };
+  auto rate = [&](std::size_t g) { return gyro[g].gyro_rad_s.z() - bias; };
   // Forward speed from the wheels, yaw rate from the gyro, each held over its sample period.
   const double dt_wheel = 1.0 / wheels.rate_hz, dt_gyro = 1.0 / imu.rate_hz;
   std::size_t g = 0;

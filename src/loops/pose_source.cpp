@@ -26,6 +26,32 @@ follow::Pose2 planar(const Pose& T) {
   return {T.translation().x(), T.translation().y(), yaw_of(T)};
 }
 
+SimulatedStreams::SimulatedStreams(const MotionStreamsConfig& config) : config_(config) {
+  std::mt19937_64 rng(config.imu.seed);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  for (int i = 0; i < 3; ++i) gyro_bias_rad_s_[i] = config.imu.gyro_bias_sigma_rad_s * n01(rng);
+  for (int i = 0; i < 3; ++i) accel_bias_m_s2_[i] = config.imu.accel_bias_sigma_m_s2 * n01(rng);
+}
+
+SimulatedStreams::Period SimulatedStreams::next(const std::function<Pose(double)>& T_world_base,
+                                                double t0_s, double t1_s) {
+  const std::uint64_t k = ++periods_;
+  sim::ImuConfig imu = config_.imu;
+  imu.gyro_bias_sigma_rad_s = 0;
+  imu.accel_bias_sigma_m_s2 = 0;
+  imu.seed = config_.imu.seed + 0x9E3779B97F4A7C15ull * k;
+  sim::WheelOdometryConfig wheels = config_.wheels;
+  wheels.seed = config_.wheels.seed + 0x9E3779B97F4A7C15ull * k;
+  Period p;
+  p.imu = sim::simulate_imu(T_world_base, t0_s, t1_s - 0.5 / imu.rate_hz, imu);
+  for (auto& s : p.imu) {
+    s.gyro_rad_s += gyro_bias_rad_s_;
+    s.accel_m_s2 += accel_bias_m_s2_;
+  }
+  p.wheels = sim::simulate_wheel_odometry(T_world_base, t0_s, t1_s - 0.5 / wheels.rate_hz, wheels);
+  return p;
+}
+
 OdometryPoseSource::OdometryPoseSource(const SensorModel& sensor, double sensor_height_m,
                                        odometry::OdometryConfig config,
                                        const MotionStreamsConfig& streams)
@@ -35,36 +61,18 @@ OdometryPoseSource::OdometryPoseSource(const SensorModel& sensor, double sensor_
                   config.expected_period_s = sensor.sweep_period_s();
                   return config;
                 }()),
-      streams_(streams) {
-  // One IMU for the whole drive: its biases are drawn once; the simulator then draws only the
-  // white noise, afresh for every period.
-  std::mt19937_64 rng(streams.imu.seed);
-  std::normal_distribution<double> n01(0.0, 1.0);
-  for (int i = 0; i < 3; ++i) gyro_bias_rad_s_[i] = streams.imu.gyro_bias_sigma_rad_s * n01(rng);
-  for (int i = 0; i < 3; ++i) accel_bias_m_s2_[i] = streams.imu.accel_bias_sigma_m_s2 * n01(rng);
-}
+      streams_(streams) {}
 
 void OdometryPoseSource::add_streams(const std::function<Pose(double)>& T_world_base, double t0_s,
                                      double t1_s) {
-  const std::uint64_t k = ++periods_;
-  sim::ImuConfig imu = streams_.imu;
-  imu.gyro_bias_sigma_rad_s = 0;
-  imu.accel_bias_sigma_m_s2 = 0;
-  imu.seed = streams_.imu.seed + 0x9E3779B97F4A7C15ull * k;
-  sim::WheelOdometryConfig wheels = streams_.wheels;
-  wheels.seed = streams_.wheels.seed + 0x9E3779B97F4A7C15ull * k;
-  // Half a sample short of t1: the next period starts there.
-  const auto imu_sim = sim::simulate_imu(T_world_base, t0_s, t1_s - 0.5 / imu.rate_hz, imu);
-  const auto wheel_sim =
-      sim::simulate_wheel_odometry(T_world_base, t0_s, t1_s - 0.5 / wheels.rate_hz, wheels);
+  const auto period = streams_.next(T_world_base, t0_s, t1_s);
   std::vector<odometry::ImuSample> imu_out;
-  imu_out.reserve(imu_sim.size());
-  for (const auto& s : imu_sim)
-    imu_out.push_back(
-        {s.stamp_s, s.gyro_rad_s + gyro_bias_rad_s_, s.accel_m_s2 + accel_bias_m_s2_});
+  imu_out.reserve(period.imu.size());
+  for (const auto& s : period.imu) imu_out.push_back({s.stamp_s, s.gyro_rad_s, s.accel_m_s2});
   std::vector<odometry::WheelSample> wheel_out;
-  wheel_out.reserve(wheel_sim.size());
-  for (const auto& s : wheel_sim) wheel_out.push_back({s.stamp_s, s.linear_m_s, s.yaw_rate_rad_s});
+  wheel_out.reserve(period.wheels.size());
+  for (const auto& s : period.wheels)
+    wheel_out.push_back({s.stamp_s, s.linear_m_s, s.yaw_rate_rad_s});
   odometry_.add_imu(imu_out);
   odometry_.add_wheels(wheel_out);
 }

@@ -44,6 +44,28 @@ struct MotionStreamsConfig {
   sim::WheelOdometryConfig wheels;
 };
 
+/// The mower's IMU and wheels as the simulator records them, one control period at a time:
+/// the IMU's constant per-axis biases are drawn once (from the IMU seed) and added to every
+/// sample; the white noise and the wheels' slip are drawn afresh for each period.
+class SimulatedStreams {
+ public:
+  explicit SimulatedStreams(const MotionStreamsConfig& config);
+  struct Period {
+    std::vector<sim::ImuSample> imu;  ///< biases included
+    std::vector<sim::WheelOdometrySample> wheels;
+  };
+  /// The samples of [t0_s, t1_s) (half a sample short of t1: the next period starts there)
+  /// simulated from the true base pose function.
+  Period next(const std::function<Pose(double)>& T_world_base, double t0_s, double t1_s);
+  const MotionStreamsConfig& config() const { return config_; }
+
+ private:
+  MotionStreamsConfig config_;
+  Eigen::Vector3d gyro_bias_rad_s_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d accel_bias_m_s2_ = Eigen::Vector3d::Zero();
+  std::uint64_t periods_ = 0;
+};
+
 /// LiDAR odometry as the loop's pose source. Per sweep: give the streams of the period, then
 /// register the sweep.
 class OdometryPoseSource {
@@ -60,10 +82,7 @@ class OdometryPoseSource {
 
  private:
   odometry::LidarOdometry odometry_;
-  MotionStreamsConfig streams_;
-  Eigen::Vector3d gyro_bias_rad_s_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d accel_bias_m_s2_ = Eigen::Vector3d::Zero();
-  std::uint64_t periods_ = 0;
+  SimulatedStreams streams_;
 };
 
 /// Wheel odometry with a gyro as the pose source of a mower that has no multi-beam LiDAR (a 2D
@@ -81,11 +100,9 @@ class DeadReckoningPoseSource {
   const follow::Pose2& pose() const { return pose_; }
 
  private:
-  MotionStreamsConfig streams_;
-  double gyro_bias_z_rad_s_ = 0;  ///< the simulated gyro's true bias
-  double still_gyro_sum_ = 0;     ///< gyro readings while standing still, summed
+  SimulatedStreams streams_;
+  double still_gyro_sum_ = 0;  ///< gyro readings while standing still, summed
   std::size_t still_samples_ = 0;
-  std::uint64_t periods_ = 0;
   follow::Pose2 pose_;
 };
 
