@@ -1,6 +1,7 @@
 #include "fieldlidar/follow/pipeline.hpp"
 
 #include <cmath>
+#include <optional>
 #include <utility>
 
 namespace fieldlidar::follow {
@@ -116,15 +117,19 @@ Perception perceive(const PointCloud& cloud_lidar, const SensorModel& sensor,
       make_pose(T_world_lidar.translation().x(), T_world_lidar.translation().y(),
                 T_world_lidar.translation().z(), 0, 0, yaw_of(T_world_lidar));
   const Pose T_level_lidar = T_world_level.inverse() * T_world_lidar;
-  PointCloud cloud = cloud_lidar;
-  if (!T_level_lidar.linear().isIdentity(1e-9))
-    for (auto& p : cloud.points) {
+  std::optional<PointCloud> levelled;  // a copy only when the sensor is tilted
+  if (!T_level_lidar.linear().isIdentity(1e-9)) {
+    levelled = cloud_lidar;
+    const Eigen::Matrix3f R = T_level_lidar.linear().cast<float>();
+    for (auto& p : levelled->points) {
       if (!p.is_valid()) continue;
-      const Eigen::Vector3f q = T_level_lidar.linear().cast<float>() * p.xyz();
+      const Eigen::Vector3f q = R * p.xyz();
       p.x = q.x();
       p.y = q.y();
       p.z = q.z();
     }
+  }
+  const PointCloud& cloud = levelled ? *levelled : cloud_lidar;
   const auto indices =
       leg_band_clusters(cloud, sensor, config, &out.sensor_height_m, &out.ground_points);
   out.clusters = indices.size();

@@ -24,6 +24,18 @@ Eigen::Isometry2d isometry_2d(const Pose2& p) {
 
 }  // namespace
 
+Perception perceive_2d(people::LegPipeline2D& legs, double stamp_s, const PointCloud& scan,
+                       const Pose2& sensor_pose, bool pose_known) {
+  const Eigen::Isometry2d T_2d = isometry_2d(sensor_pose);
+  const auto points = people::scan_points_2d(scan);
+  const auto det = pose_known ? legs.process(stamp_s, points, T_2d) : legs.process(stamp_s, points);
+  Perception perception;
+  for (const auto& l : det.legs) perception.legs_m.push_back(T_2d * l.position_m);
+  for (const auto& p : det.people)
+    if (p.seen) perception.people_m.push_back(T_2d * p.position_m);
+  return perception;
+}
+
 bool is_planar_scan(const PointCloud& cloud) {
   if (cloud.fields.ring) return cloud.ring_count() <= 1;
   return std::all_of(cloud.points.begin(), cloud.points.end(),
@@ -61,17 +73,7 @@ ReplayFrame FollowReplay::step(PointCloud cloud, double stamp_s,
   Perception perception;
   if (is_planar_scan(cloud)) {
     // A 2D scan: the leg pipeline tracks legs and persons in the odometry frame.
-    const Eigen::Isometry2d T_2d = isometry_2d(planar(T));
-    // Without recorded odometry the leg pipeline estimates its own ego-motion by scan matching
-    // (a robot taken as still that is not, or a shaking mount, would otherwise smear static
-    // returns into leg tracks); its persons are then placed from the sensor frame.
-    const auto det = T_odom_base ? legs_2d_.process(stamp_s, people::scan_points_2d(cloud), T_2d)
-                                 : legs_2d_.process(stamp_s, people::scan_points_2d(cloud));
-    for (const auto& l : det.legs) perception.legs_m.push_back(T_2d * l.position_m);
-    // Persons seen in this scan: the controller stops on a target it did not see (a coasted
-    // report is not driven on).
-    for (const auto& p : det.people)
-      if (p.seen) perception.people_m.push_back(T_2d * p.position_m);
+    perception = perceive_2d(legs_2d_, stamp_s, cloud, planar(T), T_odom_base.has_value());
   } else {
     ensure_rings(cloud, sensor_);
     perception = perceive(cloud, sensor_, T, config_.follow);

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "fieldlidar/follow/replay.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
 
 namespace fieldlidar::loops {
@@ -26,13 +27,6 @@ Pose base_pose(const sim::Scene& scene, const Pose2& m) {
 /// The sensor on its mast, straight up from the base.
 Pose lidar_pose(const sim::Scene& scene, const Pose2& m) {
   return base_pose(scene, m) * make_pose(0, 0, scene.sensor_height_m(), 0, 0, 0);
-}
-
-Eigen::Isometry2d isometry_2d(const Pose2& p) {
-  Eigen::Isometry2d T = Eigen::Isometry2d::Identity();
-  T.translation() = p.xy();
-  T.linear() = Eigen::Rotation2Dd(p.yaw_rad).toRotationMatrix();
-  return T;
 }
 
 /// A planar pose at height 0.
@@ -179,13 +173,8 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
     follow::FrameOutput out;
     if (planar_laser) {
       // The 2D leg pipeline: legs, leg tracks and persons in the recording frame.
-      const auto det =
-          legs_2d->process(t0, people::scan_points_2d(cloud), isometry_2d(planar(T0_used)));
-      follow::Perception perception;
-      for (const auto& l : det.legs) perception.legs_m.push_back(det.pose * l.position_m);
-      for (const auto& p : det.people)  // seen in this scan: a coasted report is not driven on
-        if (p.seen) perception.people_m.push_back(det.pose * p.position_m);
-      out = pipeline.follow(std::move(perception), mower_used, t0 + period / 2, period);
+      out = pipeline.follow(follow::perceive_2d(*legs_2d, t0, cloud, planar(T0_used), true),
+                            mower_used, t0 + period / 2, period);
     } else {
       out = pipeline.step(cloud, T0_used, mower_used, t0 + period / 2, period);
     }

@@ -28,6 +28,16 @@ bool is_planar_scan(const PointCloud& cloud);
 /// beam geometry (segmentation::estimate_rings); leaves a cloud with rings as it is.
 void ensure_rings(PointCloud& cloud, const SensorModel& sensor);
 
+/// Persons of a 2D laser scan (one ring, sensor frame) through the leg pipeline, placed in the
+/// world (odometry) frame by the sensor's planar pose `sensor_pose`. With `pose_known` the
+/// pipeline is given that pose; without, it estimates its own ego-motion by scan matching (a
+/// robot taken as still that is not, or a shaking mount, would otherwise smear static returns
+/// into leg tracks) and the persons are placed from the sensor frame. Only the persons a leg
+/// updated in this scan are kept: the controller stops on a target it did not see (a coasted
+/// report is not driven on).
+Perception perceive_2d(people::LegPipeline2D& legs, double stamp_s, const PointCloud& scan,
+                       const Pose2& sensor_pose, bool pose_known);
+
 struct ReplayConfig {
   FollowConfig follow;
   /// Persons in 2D scans (the caller sets the detector and its classifier).
