@@ -32,6 +32,12 @@ bool on_occupied(const StaticBackground* grid, const Eigen::Vector2d& p) {
 
 }  // namespace
 
+bool in_follow_zone(const JointTrackerConfig& c, const Eigen::Vector2d& sensor_point) {
+  const double r = sensor_point.norm();
+  return r >= c.zone_range_min_m && r <= c.zone_range_max_m &&
+         sensor_point.x() >= r * std::cos(c.zone_half_angle_deg * M_PI / 180.0);
+}
+
 JointPersonTracker::JointPersonTracker(const JointTrackerConfig& config) : config_(config) {}
 
 const JointTrack* JointPersonTracker::find(std::uint32_t id) const {
@@ -129,12 +135,7 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
 
   // Walked distance, follow zone, occupied space, reporting.
   const Eigen::Isometry2d to_sensor = sensor_pose.inverse();
-  const double zone_cos = std::cos(c.zone_half_angle_deg * M_PI / 180.0);
-  auto in_zone = [&](const Eigen::Vector2d& p) {
-    const Eigen::Vector2d s = to_sensor * p;
-    const double r = s.norm();
-    return r >= c.zone_range_min_m && r <= c.zone_range_max_m && s.x() >= r * zone_cos;
-  };
+  auto in_zone = [&](const Eigen::Vector2d& p) { return in_follow_zone(c, to_sensor * p); };
   for (auto& t : tracks_) {
     t.travel_m = std::max(t.travel_m, (t.position() - t.born_m).norm());
     if (!in_zone(t.position()))

@@ -274,12 +274,21 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       for (std::size_t k = 0; k < pts.size(); ++k)
         if ((world[k] - h).squaredNorm() <= r2) person_point[k] = 1;
   }
+  // A person walking ahead of the robot keeps their place in the sensor frame: the follow zone
+  // teaches the sensor-frame grid only while the sensor turns fast (furniture sweeping by).
+  if (last_pose_ && stamp_s > last_pose_->first) {
+    const Eigen::Rotation2Dd turn((last_pose_->second.inverse() * out.pose).linear());
+    turn_rate_deg_s_ =
+        std::abs(turn.smallestAngle()) / (stamp_s - last_pose_->first) * 180.0 / M_PI;
+  }
+  last_pose_.emplace(stamp_s, out.pose);
+  const bool zone_free = turn_rate_deg_s_ < config_.zone_turn_rate_max_deg_s;
   const double body2 = config_.body_range_max_m * config_.body_range_max_m;
   std::vector<Eigen::Vector2d> bg_world, bg_sensor, body_sensor, compact_world, unjudged_world;
   bg_world.reserve(pts.size());
   for (std::size_t k = 0; k < pts.size(); ++k) {
     if (person_point[k]) continue;
-    bg_sensor.push_back(pts[k]);
+    if (!(zone_free && in_follow_zone(config_.joint, pts[k]))) bg_sensor.push_back(pts[k]);
     if (pts[k].squaredNorm() <= body2) body_sensor.push_back(pts[k]);
     (compact[k] == 0   ? bg_world
      : compact[k] == 1 ? compact_world

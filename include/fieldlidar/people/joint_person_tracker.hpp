@@ -88,6 +88,9 @@ struct JointTrackerConfig {
   double carried_max_s = 4.0;
 };
 
+/// True when `sensor_point` (sensor frame, m) lies in the config's follow zone.
+bool in_follow_zone(const JointTrackerConfig& c, const Eigen::Vector2d& sensor_point);
+
 /// A leg of this scan, fixed frame.
 struct LegObservation {
   Eigen::Vector2d position_m = Eigen::Vector2d::Zero();
