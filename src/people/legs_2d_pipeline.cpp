@@ -283,12 +283,14 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   }
   last_pose_.emplace(stamp_s, out.pose);
   const bool zone_free = turn_rate_deg_s_ < config_.zone_turn_rate_max_deg_s;
+  JointTrackerConfig reach = config_.joint;  // the zone and the tracker's reach beyond it
+  reach.zone_range_max_m += reach.gate_m;
   const double body2 = config_.body_range_max_m * config_.body_range_max_m;
   std::vector<Eigen::Vector2d> bg_world, bg_sensor, body_sensor, compact_world, unjudged_world;
   bg_world.reserve(pts.size());
   for (std::size_t k = 0; k < pts.size(); ++k) {
     if (person_point[k]) continue;
-    if (!(zone_free && in_follow_zone(config_.joint, pts[k]))) bg_sensor.push_back(pts[k]);
+    if (!(zone_free && in_follow_zone(reach, pts[k]))) bg_sensor.push_back(pts[k]);
     if (pts[k].squaredNorm() <= body2) body_sensor.push_back(pts[k]);
     (compact[k] == 0   ? bg_world
      : compact[k] == 1 ? compact_world

@@ -121,7 +121,7 @@ TEST(CliFollowReplay, SimulatedLawnTwoDimensionalScans) {
   const auto s = summary_of(out);
   EXPECT_EQ(s["frames"].get<int>(), 300);
   const auto& m = s["metrics"];
-  EXPECT_LE(m["frames_before_target_chosen"].get<int>(), 50);
+  EXPECT_LE(m["frames_before_target_chosen"].get<int>(), 25);
   EXPECT_GE(m["target_held_fraction"].get<double>(), 0.98);
   EXPECT_EQ(m["target_switches"].get<int>(), 0);
 }

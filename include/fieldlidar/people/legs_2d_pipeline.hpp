@@ -117,15 +117,16 @@ struct LegPipeline2DConfig {
   /// towards the robot).
   double body_range_max_m = 1.5;
   /// The fast sensor-frame occupancy grid does not learn the returns in the follow zone
-  /// (JointTrackerConfig::zone_*) while the sensor turns slower than this (deg/s; 0: it always
-  /// learns them). A person walking ahead of a moving robot keeps their place in the sensor
-  /// frame and was taken by that grid before a track was reported (a simulated lawn replay, the
-  /// mower driving with its operator from the first scan: target chosen after 221 of 300
-  /// scans; without the zone 44). While the robot turns, furniture sweeps through the zone and
-  /// the grid, hit there by everything that swept across, is what keeps it untracked:
-  /// negative_2.bag /right_scan, turning at 24 deg/s, a chair leg in the zone tracked for 9
-  /// scans when the zone never learns (0.021 false persons per scan); with 10-20 deg/s here
-  /// 0 on every topic, general_tracking_moving_1.bag unchanged.
+  /// (JointTrackerConfig::zone_*, its range stretched by the tracker's gate) while the sensor
+  /// turns slower than this (deg/s; 0: it always learns them). A person walking ahead of a
+  /// moving robot keeps their place in the sensor frame and was taken by that grid before a
+  /// track was reported (a simulated lawn replay, the mower driving with its operator from the
+  /// first scan: target chosen after 221 of 300 scans; with the zone 44, with the gate 17).
+  /// While the robot turns, furniture sweeps through the zone and the grid, hit there by
+  /// everything that swept across, is what keeps it untracked: negative_2.bag /right_scan,
+  /// turning at 24 deg/s, a chair leg in the zone tracked for 9 scans when the zone never
+  /// learns (0.021 false persons per scan); with 10-20 deg/s 0 on every topic,
+  /// general_tracking_moving_1.bag unchanged.
   double zone_turn_rate_max_deg_s = 15.0;
   /// Classifier score a segment needs to be tracked as a possible leg (below the classifier's
   /// own threshold, so that a track can carry a leg through a few weak scans).
