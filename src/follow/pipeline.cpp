@@ -176,6 +176,18 @@ FrameOutput FollowPipeline::follow(Perception perception, const Pose2& mower, do
         tracker_.select_target(*id);
     }
   }
+  // A detector that tracks people itself (2D legs) vouches for identity: the lost target's own
+  // person reported again is the target again, wherever and however it moves.
+  bool retaken = false;
+  const auto& ids = out.perception.people_ids;
+  if (ids.size() == upd.track_of_detection.size() && tracker_.target_id()) {
+    for (std::size_t j = 0; j < ids.size(); ++j)
+      if (upd.track_of_detection[j] == std::int64_t(*tracker_.target_id())) target_source_ = ids[j];
+    if (tracker_.target_lost() && target_source_)
+      for (std::size_t j = 0; j < ids.size() && !retaken; ++j)
+        if (ids[j] == *target_source_ && upd.track_of_detection[j] >= 0)
+          retaken = tracker_.retake(std::uint32_t(upd.track_of_detection[j]));
+  }
   // After the tracker's re-acquisition window the lost operator takes the mower on again as at
   // the start: by walking in front of it (the mower stays stopped until then).
   if (tracker_.target_lost() && tracker_.target_lost_s() > tracker_.config().reacquire_window_s)
@@ -187,7 +199,7 @@ FrameOutput FollowPipeline::follow(Perception perception, const Pose2& mower, do
   std::optional<Eigen::Vector2d> target_mower;
   if (const auto* t = tracker_.target()) {
     out.target_world_m = t->position();
-    if (upd.target_updated) trail_.add(t->position());
+    if (upd.target_updated || retaken) trail_.add(t->position());
     // The target in the mower frame (seed 000: P(xc, yc)).
     const Eigen::Vector2d d = t->position() - mower.xy();
     const double c = std::cos(mower.yaw_rad), s = std::sin(mower.yaw_rad);

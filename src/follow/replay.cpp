@@ -32,7 +32,10 @@ Perception perceive_2d(people::LegPipeline2D& legs, double stamp_s, const PointC
   Perception perception;
   for (const auto& l : det.legs) perception.legs_m.push_back(T_2d * l.position_m);
   for (const auto& p : det.people)
-    if (p.seen) perception.people_m.push_back(T_2d * p.position_m);
+    if (p.seen) {
+      perception.people_m.push_back(T_2d * p.position_m);
+      perception.people_ids.push_back(p.track);
+    }
   return perception;
 }
 

@@ -124,6 +124,16 @@ bool PersonTracker::reacquire(std::uint32_t id) {
   return true;
 }
 
+bool PersonTracker::retake(std::uint32_t id) {
+  if (!target_lost() || id == *target_id_) return false;
+  const auto it =
+      std::find_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.id == id; });
+  if (it == tracks_.end() || it->missed_frames != 0) return false;
+  it->confirmed = true;
+  take_as_target(id);
+  return true;
+}
+
 void PersonTracker::take_as_target(std::uint32_t id) {
   const std::uint32_t target = *target_id_;
   std::erase_if(tracks_, [&](const Track& t) { return t.id == target; });

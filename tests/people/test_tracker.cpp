@@ -193,6 +193,28 @@ TEST(Tracker, LostTargetIsNotTakenByClutterNorByAnotherPersonSeenBefore) {
   EXPECT_NEAR((tracker.target()->position() - Eigen::Vector2d(11, 1)).norm(), 0, 0.2);
 }
 
+TEST(Tracker, RetakeOnTheDetectorsWordOnlyWhileTheTargetIsLost) {
+  PersonTracker tracker;
+  for (int k = 0; k < 5; ++k) tracker.update(0.1 * k, std::vector<Eigen::Vector2d>{{2, 0}});
+  ASSERT_TRUE(tracker.select_target(1));
+  EXPECT_FALSE(tracker.retake(1));  // tracked: nothing to take back
+  for (int k = 5; k < 12; ++k) tracker.update(0.1 * k, {});
+  ASSERT_TRUE(tracker.target_lost());
+  // The person is back 0.8 m aside, standing (reacquire() would wait for a 1 m walk).
+  const auto r = tracker.update(1.2, std::vector<Eigen::Vector2d>{{2, 0.8}});
+  ASSERT_GE(r.track_of_detection[0], 0);
+  const auto id = std::uint32_t(r.track_of_detection[0]);
+  EXPECT_FALSE(tracker.reacquire(id));
+  EXPECT_FALSE(tracker.retake(99));  // no such track
+  EXPECT_TRUE(tracker.retake(id));
+  ASSERT_NE(tracker.target(), nullptr);
+  EXPECT_EQ(*tracker.target_id(), 1u);  // the id is kept
+  EXPECT_TRUE(tracker.target()->confirmed);
+  EXPECT_FALSE(tracker.retake(id));  // no longer lost
+  tracker.update(1.3, std::vector<Eigen::Vector2d>{{2, 0.8}});
+  EXPECT_NE(tracker.target(), nullptr);
+}
+
 TEST(Tracker, RejectsTimeGoingBackwards) {
   PersonTracker tracker;
   tracker.update(1.0, {});

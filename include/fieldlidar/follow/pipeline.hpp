@@ -62,6 +62,10 @@ struct FollowConfig {
 struct Perception {
   std::vector<Eigen::Vector2d> legs_m;
   std::vector<Eigen::Vector2d> people_m;
+  /// Per person: the detector's own track id when the detector tracks people (the 2D leg
+  /// pipeline's joint tracks), else empty. The follow tracker takes a lost target back at once
+  /// when the detector reports the target's own track again.
+  std::vector<std::int64_t> people_ids;
   std::size_t ground_points = 0;
   std::size_t clusters = 0;
   double sensor_height_m = 0;
@@ -126,6 +130,8 @@ class FollowPipeline {
   SensorModel sensor_;
   FollowConfig config_;
   people::PersonTracker tracker_;
+  /// The detector's id of the person the target was last updated by (Perception::people_ids).
+  std::optional<std::int64_t> target_source_;
   FollowController controller_;
   Trail trail_;
   BoundaryRecorder recorder_;

@@ -110,6 +110,11 @@ class PersonTracker {
   /// after the re-acquisition window): `id` takes over the target's id. False, and nothing
   /// changes, unless the target is lost and may_reacquire() holds for `id`.
   bool reacquire(std::uint32_t id);
+  /// The lost target is track `id` again on the detector's word: a detector that tracks people
+  /// itself reports the target's own person again (after a few scans without legs, say), so
+  /// `id` takes over the target's id and counts as confirmed, whether or not it walks. False,
+  /// and nothing changes, unless the target is lost and `id` is a track updated this frame.
+  bool retake(std::uint32_t id);
 
   const TrackerConfig& config() const { return config_; }
 
