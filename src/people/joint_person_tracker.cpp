@@ -59,6 +59,7 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
   for (auto& t : tracks_) {
     kalman_predict(t.filter, dt, c.accel_sigma_m_s2);
     t.legs_now = 0;
+    t.sure_leg_now = false;
   }
   const double pair2 = c.pair_distance_max_m * c.pair_distance_max_m;
   auto standing_shape = [&](const LegObservation& a, const LegObservation& b) {
@@ -126,6 +127,8 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
     t.filter.missed_frames = 0;
     t.filter.last_update_s = stamp_s;
     t.legs_now = h.b >= 0 ? 2 : 1;
+    t.sure_leg_now = la.score >= c.occupied_keep_score ||
+                     (h.b >= 0 && legs[std::size_t(h.b)].score >= c.occupied_keep_score);
   }
   for (std::size_t k = 0; k < tracks_.size(); ++k)
     if (!track_done[k]) {
@@ -142,7 +145,8 @@ JointUpdate JointPersonTracker::update(double stamp_s, std::span<const LegObserv
       t.zone_pair_hits = 0;
     else if (t.legs_now == 2)
       ++t.zone_pair_hits;
-    t.occupied_scans = on_occupied(occupied, t.position()) ? t.occupied_scans + 1 : 0;
+    const bool kept = t.reported && t.sure_leg_now;  // a leg the classifier is sure of
+    t.occupied_scans = !kept && on_occupied(occupied, t.position()) ? t.occupied_scans + 1 : 0;
     if (!t.reported && t.evidence >= c.confirm_evidence && t.hits >= c.confirm_hits &&
         (t.travel_m >= c.min_travel_m || t.zone_pair_hits >= c.zone_confirm_hits ||
          (c.standing_pair_hits > 0 && t.standing_pair_hits >= c.standing_pair_hits) ||

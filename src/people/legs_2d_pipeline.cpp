@@ -19,8 +19,19 @@ void prune(Map& m, const PersonTracker& tracker) {
 
 }  // namespace
 
+LegPipeline2DConfig LegPipeline2D::resolved(LegPipeline2DConfig c) {
+  // The occupied-space rule's margins left unset (NaN) are the classifier's own.
+  if (const auto& k = c.detector.classifier) {
+    if (std::isnan(c.occupied_leg_score_min)) c.occupied_leg_score_min = k->occupied_score_min;
+    if (std::isnan(c.occupied_leg_evidence_min))
+      c.occupied_leg_evidence_min = k->occupied_evidence_min;
+    if (c.sure_leg_radius_m > 0) c.joint.occupied_keep_score = c.occupied_leg_score_min;
+  }
+  return c;
+}
+
 LegPipeline2D::LegPipeline2D(LegPipeline2DConfig config)
-    : config_(std::move(config)),
+    : config_(resolved(std::move(config))),
       odometry_(config_.scan_matcher),
       world_background_(config_.background),
       sensor_background_(config_.background),
@@ -37,13 +48,6 @@ LegPipeline2D::LegPipeline2D(LegPipeline2DConfig config)
   config_.unjudged_occupancy_weight =
       std::min(config_.unjudged_occupancy_weight, config_.compact_occupancy_weight);
   person_grid_ = config_.unjudged_occupancy_weight != config_.compact_occupancy_weight;
-  // The occupied-space rule's margins left unset (NaN) are the classifier's own.
-  if (const auto& c = config_.detector.classifier) {
-    if (std::isnan(config_.occupied_leg_score_min))
-      config_.occupied_leg_score_min = c->occupied_score_min;
-    if (std::isnan(config_.occupied_leg_evidence_min))
-      config_.occupied_leg_evidence_min = c->occupied_evidence_min;
-  }
 }
 
 void LegPipeline2D::add_held_legs(
@@ -120,6 +124,22 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     }
   const bool trace = config_.trace_segments;
   std::vector<std::size_t> cand_trace;  // per candidate: its entry in out.segments
+  // Near a reported person a sure leg still counts on the backgrounds and occupied space
+  // (sure_leg_radius_m): per candidate, whether it is near one, and its background (if any).
+  std::vector<Eigen::Vector2d> reported_before;  // the reported persons after the last scan
+  for (const auto& t : persons_joint_.tracks())
+    if (t.reported) reported_before.push_back(t.position());
+  const double sure_r2 = config_.sure_leg_radius_m * config_.sure_leg_radius_m;
+  auto near_reported = [&](std::size_t b, std::size_t e) {
+    if (!(config_.sure_leg_radius_m > 0) || reported_before.empty()) return false;
+    Eigen::Vector2d m = Eigen::Vector2d::Zero();
+    for (std::size_t k = b; k < e; ++k) m += world[k];
+    m /= double(e - b);
+    return std::any_of(reported_before.begin(), reported_before.end(),
+                       [&](const Eigen::Vector2d& r) { return (r - m).squaredNorm() <= sure_r2; });
+  };
+  std::vector<char> cand_near;
+  std::vector<SegmentFate> cand_background;  // kPersonInput: off the backgrounds
   for (const auto& [b, e] : segments) {
     SegmentTrace* tr = nullptr;
     if (trace) {
@@ -146,13 +166,15 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       if (tr) tr->fate = SegmentFate::kNotForeground;
       continue;
     }
+    const bool near = near_reported(b, e);
+    SegmentFate background = SegmentFate::kPersonInput;
     if (dc.use_background) {
-      if (world_background_.is_static(std::span(world).subspan(b, e - b))) {
-        if (tr) tr->fate = SegmentFate::kWorldBackground;
-        continue;
-      }
-      if (moving_frame && sensor_background_.is_static(std::span(pts).subspan(b, e - b))) {
-        if (tr) tr->fate = SegmentFate::kSensorBackground;
+      if (world_background_.is_static(std::span(world).subspan(b, e - b)))
+        background = SegmentFate::kWorldBackground;
+      else if (moving_frame && sensor_background_.is_static(std::span(pts).subspan(b, e - b)))
+        background = SegmentFate::kSensorBackground;
+      if (background != SegmentFate::kPersonInput && !near) {
+        if (tr) tr->fate = background;
         continue;
       }
     }
@@ -167,6 +189,8 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     cand_world.push_back(out.pose * mean);
     cand_range.emplace_back(b, e);
     score.push_back(s);
+    cand_near.push_back(near);
+    cand_background.push_back(background);
   }
 
   // Leg tracks carry a leg through scans where its score dips (half occluded, edge-on).
@@ -183,6 +207,13 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       ev = config_.evidence_decay * ev + score[i];
     }
     if (trace) out.segments[cand_trace[i]].evidence = prior;
+    // Sure by the occupied-space margins (classifier units).
+    const bool sure = dc.classifier && (score[i] >= config_.occupied_leg_score_min ||
+                                        prior >= config_.occupied_leg_evidence_min);
+    if (cand_background[i] != SegmentFate::kPersonInput && !sure) {
+      if (trace) out.segments[cand_trace[i]].fate = cand_background[i];
+      continue;
+    }
     if (score[i] > 0 || prior > 0) {
       // A leg on occupied space is no person's leg: the occupancy grid forbids tracks there.
       const auto [b, e] = cand_range[i];
@@ -209,10 +240,11 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
         per_scan_legs.push_back(cand[i]);
         if (!doubtful) out.legs.push_back({cand[i], score[i], track, prior, occupied});
       }
+      const bool held_out = person_occupied && !(cand_near[i] && sure);
       if (trace)
         out.segments[cand_trace[i]].fate =
-            person_occupied ? SegmentFate::kOccupied : SegmentFate::kPersonInput;
-      if (person_occupied) continue;
+            held_out ? SegmentFate::kOccupied : SegmentFate::kPersonInput;
+      if (held_out) continue;
       obs.push_back({cand_world[i], score[i] > 0 ? score[i] : config_.carried_leg_score,
                      (pts[e - 1] - pts[b]).norm()});
       obs_cand.push_back(i);

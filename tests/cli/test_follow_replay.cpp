@@ -93,14 +93,17 @@ TEST(CliFollowReplay, StandingRobotWithPeopleAndWithNone) {
   EXPECT_GE(s["metrics"]["frames_following"].get<int>(), 90);
   // positive_4: the operator's person track of the leg pipeline coasts over a few scans without
   // legs and the follow tracker's own track of them dies; the pipeline's track reported again is
-  // the target again at once (Perception::people_ids). Measured: held in 75.2 % of the scans
-  // since chosen (49.3 % before: lost for 147 scans until they walked 1 m).
+  // the target again at once (Perception::people_ids): held in 75.2 % of the scans since chosen
+  // (49.3 % before: lost for 147 scans until they walked 1 m). Standing 0.5 m from the sensor,
+  // a cell from the robot's own returns, their legs are then taken into the background grids;
+  // sure legs near a reported person still count (LegPipeline2DConfig::sure_leg_radius_m):
+  // measured 95.2 %.
   const char* positive_4 = "legs_2d/positive_4_extracted.bag";
   FIELDLIDAR_REQUIRE_DATA(positive_4);
   r = test::run_cli("follow --replay " + test::data_file(positive_4).string() + " --out " +
                     (dir / "pos4").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_GE(summary_of(dir / "pos4")["metrics"]["target_held_fraction"].get<double>(), 0.70);
+  EXPECT_GE(summary_of(dir / "pos4")["metrics"]["target_held_fraction"].get<double>(), 0.90);
   // No person in the scene: every scan the mower follows is a false follow. Measured: 0 of 434
   // scans on /right_scan since standing pairs need a person's shape (11 before: two blobs 0.2-0.35
   // m wide, 0.5 m apart, taken for a standing person); 0 on /left_scan and /rear_scan.

@@ -81,6 +81,33 @@ TEST(JointPersonTracker, NoTrackOnOccupiedSpace) {
   EXPECT_TRUE(tracker.tracks().empty());
 }
 
+// A reported person whose cells become occupied (they stood long beside something static) is
+// dropped after occupied_max_scans scans, unless a leg scoring at least occupied_keep_score
+// updates them in that scan.
+TEST(JointPersonTracker, SureLegsKeepAReportedPersonOnOccupiedSpace) {
+  StaticBackgroundConfig gc;
+  gc.warmup_scans = 3;
+  gc.rate = 0.15;
+  gc.static_occupancy = 0.2;
+  for (const double leg_score : {1.0, 3.5}) {
+    JointTrackerConfig jc;
+    jc.occupied_keep_score = 3.0;
+    JointPersonTracker tracker(jc);
+    StaticBackground grid(gc);
+    const Eigen::Vector2d body(1.5, 0.0);
+    for (int k = 0; k < 10; ++k)  // reported while standing, on free cells
+      tracker.update(0.1 * k, two_legs(body, 0.2, 2.0), Eigen::Isometry2d::Identity(), &grid);
+    ASSERT_EQ(tracker.tracks().size(), 1u);
+    ASSERT_TRUE(tracker.tracks()[0].reported);
+    const std::vector<Eigen::Vector2d> cells{body, body + Eigen::Vector2d(0.12, 0.14),
+                                             body - Eigen::Vector2d(0.12, 0.14)};
+    for (int k = 0; k < 10; ++k) grid.update(cells);
+    for (int k = 10; k < 20; ++k)
+      tracker.update(0.1 * k, two_legs(body, 0.2, leg_score), Eigen::Isometry2d::Identity(), &grid);
+    EXPECT_EQ(tracker.tracks().size(), leg_score >= 3.0 ? 1u : 0u) << "leg score " << leg_score;
+  }
+}
+
 // Weak legs (scores below the classifier threshold) never build a person.
 TEST(JointPersonTracker, WeakLegsAreNoPerson) {
   JointPersonTracker tracker;

@@ -82,6 +82,10 @@ struct JointTrackerConfig {
   double birth_min_separation_m = 0.45;
   /// Consecutive scans on occupied cells after which a track is dropped.
   int occupied_max_scans = 3;
+  /// A reported track updated in a scan by a leg scoring at least this is not on occupied space
+  /// in that scan (inf: off; LegPipeline2D sets its occupied-space score margin, see
+  /// LegPipeline2DConfig::sure_leg_radius_m).
+  double occupied_keep_score = std::numeric_limits<double>::infinity();
   /// A reported person updated by carried legs alone (LegObservation::carry_only) for longer
   /// than this is dropped (s): they keep a person followed out of the classifier's reach, not
   /// a track left on clutter.
@@ -112,7 +116,8 @@ struct JointTrack {
   Eigen::Vector2d born_m = Eigen::Vector2d::Zero();
   double travel_m = 0;  ///< farthest distance from born_m so far
   bool reported = false;
-  int legs_now = 0;  ///< legs that updated it this scan (0, 1, 2)
+  int legs_now = 0;           ///< legs that updated it this scan (0, 1, 2)
+  bool sure_leg_now = false;  ///< one of them scored at least occupied_keep_score
   Eigen::Vector2d position() const { return filter.position(); }
 };
 
