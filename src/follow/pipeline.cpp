@@ -66,6 +66,12 @@ people::LegDetectorConfig legs_for_sensor(const people::LegDetectorConfig& legs_
 
 namespace {
 
+/// A track that walks as the tracker's re-acquisition asks (TrackerConfig::reacquire_min_*).
+bool walks(const people::Track& t, const people::TrackerConfig& c) {
+  return t.streak >= c.reacquire_min_streak && t.velocity().norm() >= c.reacquire_min_speed_m_s &&
+         (t.position() - t.born_m).norm() >= c.reacquire_min_walk_m;
+}
+
 /// Of the confirmed persons seen this frame within `range_m` ahead of the mower that pass
 /// `accept`, the one nearest the mower's heading (smallest bearing).
 template <class Accept>
@@ -172,8 +178,25 @@ FrameOutput FollowPipeline::follow(Perception perception, const Pose2& mower, do
       // one nearest the mower's heading (smallest bearing), not the nearest one (leg-like posts
       // or a bystander beside the mower may be nearer).
       if (const auto id = person_ahead(tracker_, mower, config_.auto_select_range_m,
-                                       [](const people::Track&) { return true; }))
-        tracker_.select_target(*id);
+                                       [](const people::Track&) { return true; });
+          id && tracker_.select_target(*id)) {
+        provisional_ = config_.provisional_move_m > 0;
+        chosen_at_m_ = tracker_.target()->position();
+        mower_at_choice_m_ = mower.xy();
+      }
+    }
+  } else if (provisional_) {
+    // Nobody has moved since the automatic choice: a person walking off ahead is the operator.
+    const people::Track* t = tracker_.target();
+    if (!t || (t->position() - chosen_at_m_).norm() >= config_.provisional_move_m ||
+        (mower.xy() - mower_at_choice_m_).norm() >= config_.provisional_move_m) {
+      provisional_ = false;
+    } else if (const auto id = person_ahead(tracker_, mower, config_.auto_select_range_m,
+                                            [&](const people::Track& c) {
+                                              return c.id != t->id && walks(c, tracker_.config());
+                                            })) {
+      provisional_ = !tracker_.select_target(*id);
+      if (!provisional_) target_source_.reset();
     }
   }
   // A detector that tracks people itself (2D legs) vouches for identity: the lost target's own

@@ -1,6 +1,8 @@
-// The follow pipeline with a detector that tracks people itself (the 2D leg pipeline): a lost
-// target whose own detector track is reported again is followed again at once, standing or not;
-// another detector track in the same place is not taken.
+// The follow pipeline's target identity. With a detector that tracks people itself (the 2D leg
+// pipeline) a lost target whose own detector track is reported again is followed again at once,
+// standing or not; another detector track in the same place is not taken. An automatic choice
+// that nobody has moved since gives way to a person walking off ahead.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -47,6 +49,39 @@ TEST(FollowRetake, TheDetectorsOwnTrackOfTheTargetIsTakenBackAtOnce) {
 TEST(FollowRetake, AnotherDetectorTrackInTheSamePlaceIsNotTaken) {
   // Standing, it never walks the 1 m a re-acquisition asks for.
   EXPECT_EQ(frames_held_after_return(8), 0);
+}
+
+/// Two posts read as a person 1.5 m ahead from the first frame; the operator, 2 m ahead, is
+/// reported only once walking off along +x at 1 m/s from 1 s. The mower stands at `mower`
+/// from frame 5 on (it stood at the origin when the choice was made). Returns the target's
+/// position at the end.
+Eigen::Vector2d target_after_the_walk(const Pose2& mower) {
+  FollowPipeline pipeline(SensorModel::vlp16(), FollowConfig{});
+  const Eigen::Vector2d posts(1.4, -0.7);
+  double t = 0;
+  for (int k = 0; k < 40; ++k, t += 0.1) {
+    Perception p;
+    p.people_m.push_back(posts);
+    if (k >= 10) p.people_m.push_back({2.0 + 0.1 * (k - 10), 0.0});
+    pipeline.follow(p, k < 5 ? Pose2{} : mower, t, 0.1);
+    if (k == 4) {
+      EXPECT_TRUE(pipeline.tracker().target() != nullptr);
+    }
+  }
+  const auto* target = pipeline.tracker().target();
+  return target ? target->position() : Eigen::Vector2d::Constant(NAN);
+}
+
+TEST(FollowProvisionalChoice, AWalkerTakesOverAStandingChoiceWhileTheMowerStands) {
+  const Eigen::Vector2d end = target_after_the_walk(Pose2{});
+  EXPECT_NEAR(end.x(), 4.9, 0.3);  // the operator, 2.9 m on
+  EXPECT_NEAR(end.y(), 0.0, 0.2);
+}
+
+TEST(FollowProvisionalChoice, NotOnceTheMowerHasMoved) {
+  const Eigen::Vector2d end = target_after_the_walk(Pose2{0.6, 0.0, 0.0});
+  EXPECT_NEAR(end.x(), 1.4, 0.1);  // still the posts
+  EXPECT_NEAR(end.y(), -0.7, 0.1);
 }
 
 }  // namespace

@@ -50,6 +50,12 @@ struct FollowConfig {
   /// stopped until then.
   std::optional<std::uint32_t> target_id;
   double auto_select_range_m = 6.0;
+  /// A target chosen automatically is provisional while neither it nor the mower has moved this
+  /// far since the choice (m; 0 = off): a confirmed person walking ahead of the mower (1 m from
+  /// where their track was born, at 0.3 m/s or more, seen in 10 frames in a row: the tracker's
+  /// re-acquisition rule) then takes the target over. At leg height two posts read as a standing
+  /// pair as well as an operator's legs do; the operator is the one who walks off.
+  double provisional_move_m = 0.5;
 
   /// Leg bounds for a multi-beam sensor at mower height, set by hand from the arcs of simulated
   /// VLP-16 sweeps of walking people (range noise 3 cm: smoothing and a 3 cm path step needed).
@@ -132,6 +138,11 @@ class FollowPipeline {
   people::PersonTracker tracker_;
   /// The detector's id of the person the target was last updated by (Perception::people_ids).
   std::optional<std::int64_t> target_source_;
+  /// The automatic choice is provisional (FollowConfig::provisional_move_m): where the target
+  /// and the mower were when it was made.
+  bool provisional_ = false;
+  Eigen::Vector2d chosen_at_m_ = Eigen::Vector2d::Zero(),
+                  mower_at_choice_m_ = Eigen::Vector2d::Zero();
   FollowController controller_;
   Trail trail_;
   BoundaryRecorder recorder_;
