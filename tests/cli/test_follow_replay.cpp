@@ -5,9 +5,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "run_cli.hpp"
@@ -156,6 +159,56 @@ TEST(CliFollowReplay, SimulatedLawnSweepsWithTheirPoses) {
   EXPECT_GE(m["frames_following"].get<int>(), 55);
   EXPECT_EQ(m["target_switches"].get<int>(), 0);
   EXPECT_GT(m["path_length_m"].get<double>(), 3.0);
+}
+
+/// Rows of a CSV file with a header, each as its fields.
+std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
+    rows.push_back(std::move(f));
+  }
+  return rows;
+}
+
+// The 2D path on a simulated lawn with three people strolling at random and one crossing ahead
+// of the operator (scene seed 1: a stroller passes 0.5 m from the operator at scan 272), the
+// scripted mower 2.5 m behind the operator: the target is the operator in every scan it is held.
+// Measured: chosen after 12 scans, held in all 388 since, each within 0.5 m of the operator
+// (scene seeds 0-5 over 2000 scans: 0, 1, 3, 4, 5 likewise; on seed 2 a stroller walks through
+// the operator, in the simulator literally, and is taken for them: 140 scans off, then lost).
+TEST(CliFollowReplay, SimulatedLawnWithStrollersTheTargetStaysTheOperator) {
+  const auto dir = test::temp_dir("cli_follow_replay_sim_2d_strollers");
+  const auto sim = dir / "sim", out = dir / "out";
+  auto r = test::run_cli(
+      "simulate --scene lawn --sensor laser2d --frames 400 --seed 1 --extra-walkers 3 "
+      "--crossing --out " +
+      sim.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = test::run_cli("follow --replay " + sim.string() + " --odom " +
+                    (sim / "poses_tum.txt").string() + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::map<int, Eigen::Vector2d> operator_at;  // people.csv: frame, stamp, id, x, y, ...
+  for (const auto& f : csv_rows(sim / "people.csv"))
+    if (f.size() > 4 && f[2] == "1")
+      operator_at[std::stoi(f[0])] = {std::stod(f[3]), std::stod(f[4])};
+  const auto log = csv_rows(out / "follow_log.csv");  // t, mower x y yaw, est_x, est_y, ...
+  ASSERT_EQ(log.size(), 400u);
+  int held = 0, off = 0;
+  for (std::size_t i = 0; i < log.size(); ++i) {
+    if (log[i].size() < 6 || log[i][4] == "nan") continue;
+    ++held;
+    const Eigen::Vector2d est(std::stod(log[i][4]), std::stod(log[i][5]));
+    ASSERT_TRUE(operator_at.count(int(i)));
+    off += (est - operator_at[int(i)]).norm() > 0.5;
+  }
+  EXPECT_GE(held, 380);
+  EXPECT_EQ(off, 0);
 }
 
 }  // namespace
