@@ -180,7 +180,7 @@ FrameOutput FollowPipeline::follow(Perception perception, const Pose2& mower, do
       if (const auto id = person_ahead(tracker_, mower, config_.auto_select_range_m,
                                        [](const people::Track&) { return true; });
           id && tracker_.select_target(*id)) {
-        provisional_ = config_.provisional_move_m > 0;
+        provisional_ = config_.provisional_move_m > 0 && !out.perception.people_ids.empty();
         chosen_at_m_ = tracker_.target()->position();
         mower_at_choice_m_ = mower.xy();
       }
@@ -191,10 +191,12 @@ FrameOutput FollowPipeline::follow(Perception perception, const Pose2& mower, do
     if (!t || (t->position() - chosen_at_m_).norm() >= config_.provisional_move_m ||
         (mower.xy() - mower_at_choice_m_).norm() >= config_.provisional_move_m) {
       provisional_ = false;
-    } else if (const auto id = person_ahead(tracker_, mower, config_.auto_select_range_m,
-                                            [&](const people::Track& c) {
-                                              return c.id != t->id && walks(c, tracker_.config());
-                                            })) {
+    } else if (const auto id = person_ahead(
+                   tracker_, mower, config_.auto_select_range_m, [&](const people::Track& c) {
+                     return c.id != t->id &&
+                            (c.born_m - mower.xy()).norm() <= config_.provisional_birth_range_m &&
+                            walks(c, tracker_.config());
+                   })) {
       provisional_ = !tracker_.select_target(*id);
       if (!provisional_) target_source_.reset();
     }

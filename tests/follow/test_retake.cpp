@@ -51,18 +51,22 @@ TEST(FollowRetake, AnotherDetectorTrackInTheSamePlaceIsNotTaken) {
   EXPECT_EQ(frames_held_after_return(8), 0);
 }
 
-/// Two posts read as a person 1.5 m ahead from the first frame; the operator, 2 m ahead, is
-/// reported only once walking off along +x at 1 m/s from 1 s. The mower stands at `mower`
-/// from frame 5 on (it stood at the origin when the choice was made). Returns the target's
-/// position at the end.
-Eigen::Vector2d target_after_the_walk(const Pose2& mower) {
+/// Two posts read as a person 1.5 m ahead from the first frame (2D detector track 1); from 1 s
+/// a person (track 2) walks at 1 m/s from `walker_from` along `walker_dir`. The mower stands at
+/// `mower` from frame 5 on (it stood at the origin when the choice was made). Returns the
+/// target's position at the end.
+Eigen::Vector2d target_after_the_walk(const Pose2& mower, const Eigen::Vector2d& walker_from,
+                                      const Eigen::Vector2d& walker_dir, bool ids = true) {
   FollowPipeline pipeline(SensorModel::vlp16(), FollowConfig{});
   const Eigen::Vector2d posts(1.4, -0.7);
   double t = 0;
   for (int k = 0; k < 40; ++k, t += 0.1) {
-    Perception p;
-    p.people_m.push_back(posts);
-    if (k >= 10) p.people_m.push_back({2.0 + 0.1 * (k - 10), 0.0});
+    Perception p = seen(posts, 1);
+    if (k >= 10) {
+      p.people_m.push_back(walker_from + 0.1 * (k - 10) * walker_dir);
+      p.people_ids.push_back(2);
+    }
+    if (!ids) p.people_ids.clear();
     pipeline.follow(p, k < 5 ? Pose2{} : mower, t, 0.1);
     if (k == 4) {
       EXPECT_TRUE(pipeline.tracker().target() != nullptr);
@@ -72,16 +76,21 @@ Eigen::Vector2d target_after_the_walk(const Pose2& mower) {
   return target ? target->position() : Eigen::Vector2d::Constant(NAN);
 }
 
-TEST(FollowProvisionalChoice, AWalkerTakesOverAStandingChoiceWhileTheMowerStands) {
-  const Eigen::Vector2d end = target_after_the_walk(Pose2{});
+TEST(FollowProvisionalChoice, AWalkerFromBeforeTheMowerTakesOverAStandingChoice) {
+  const Eigen::Vector2d end = target_after_the_walk(Pose2{}, {2.0, 0.0}, {1.0, 0.0});
   EXPECT_NEAR(end.x(), 4.9, 0.3);  // the operator, 2.9 m on
   EXPECT_NEAR(end.y(), 0.0, 0.2);
 }
 
-TEST(FollowProvisionalChoice, NotOnceTheMowerHasMoved) {
-  const Eigen::Vector2d end = target_after_the_walk(Pose2{0.6, 0.0, 0.0});
-  EXPECT_NEAR(end.x(), 1.4, 0.1);  // still the posts
-  EXPECT_NEAR(end.y(), -0.7, 0.1);
+TEST(FollowProvisionalChoice, NotOnceTheMowerHasMovedNorAStrollerNorIn3D) {
+  const Eigen::Vector2d posts(1.4, -0.7);
+  // The mower has moved 0.6 m since the choice.
+  EXPECT_LT((target_after_the_walk(Pose2{0.6, 0.0, 0.0}, {2.0, 0.0}, {1.0, 0.0}) - posts).norm(),
+            0.1);
+  // A stroller crossing 5 m ahead, their track born 5 m from the mower.
+  EXPECT_LT((target_after_the_walk(Pose2{}, {5.0, -1.5}, {0.0, 1.0}) - posts).norm(), 0.1);
+  // Persons from the 3D path (no detector identities: the body check is trusted).
+  EXPECT_LT((target_after_the_walk(Pose2{}, {2.0, 0.0}, {1.0, 0.0}, false) - posts).norm(), 0.1);
 }
 
 }  // namespace

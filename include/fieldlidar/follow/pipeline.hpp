@@ -50,12 +50,16 @@ struct FollowConfig {
   /// stopped until then.
   std::optional<std::uint32_t> target_id;
   double auto_select_range_m = 6.0;
-  /// A target chosen automatically is provisional while neither it nor the mower has moved this
-  /// far since the choice (m; 0 = off): a confirmed person walking ahead of the mower (1 m from
-  /// where their track was born, at 0.3 m/s or more, seen in 10 frames in a row: the tracker's
-  /// re-acquisition rule) then takes the target over. At leg height two posts read as a standing
-  /// pair as well as an operator's legs do; the operator is the one who walks off.
+  /// With persons from a 2D laser (Perception::people_ids set), a target chosen automatically is
+  /// provisional while neither it nor the mower has moved `provisional_move_m` since the choice
+  /// (m; 0 = off): a confirmed person who walks off from within `provisional_birth_range_m` of
+  /// the mower (their track born there; walking as the tracker's re-acquisition asks: 1 m from
+  /// there, at 0.3 m/s or more, seen in 10 frames in a row) and is ahead of it then takes the
+  /// target over. At leg height two posts read as a standing pair as well as an operator's legs
+  /// do; the operator is the one who walks off from in front of the mower (the 3D path's body
+  /// check tells them apart, and a stroller passing by takes nothing over there).
   double provisional_move_m = 0.5;
+  double provisional_birth_range_m = 3.5;
 
   /// Leg bounds for a multi-beam sensor at mower height, set by hand from the arcs of simulated
   /// VLP-16 sweeps of walking people (range noise 3 cm: smoothing and a 3 cm path step needed).
