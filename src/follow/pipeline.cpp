@@ -66,12 +66,6 @@ people::LegDetectorConfig legs_for_sensor(const people::LegDetectorConfig& legs_
 
 namespace {
 
-/// A track that walks as the tracker's re-acquisition asks (TrackerConfig::reacquire_min_*).
-bool walks(const people::Track& t, const people::TrackerConfig& c) {
-  return t.streak >= c.reacquire_min_streak && t.velocity().norm() >= c.reacquire_min_speed_m_s &&
-         (t.position() - t.born_m).norm() >= c.reacquire_min_walk_m;
-}
-
 /// Of the confirmed persons seen this frame within `range_m` ahead of the mower that pass
 /// `accept`, the one nearest the mower's heading (smallest bearing).
 template <class Accept>
@@ -195,7 +189,7 @@ FrameOutput FollowPipeline::follow(Perception perception, const Pose2& mower, do
                    tracker_, mower, config_.auto_select_range_m, [&](const people::Track& c) {
                      return c.id != t->id &&
                             (c.born_m - mower.xy()).norm() <= config_.provisional_birth_range_m &&
-                            walks(c, tracker_.config());
+                            people::walks(c, tracker_.config());
                    })) {
       provisional_ = !tracker_.select_target(*id);
       if (!provisional_) target_source_.reset();

@@ -130,24 +130,23 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   for (const auto& t : persons_joint_.tracks())
     if (t.reported) reported_before.push_back(t.position());
   const double sure_r2 = config_.sure_leg_radius_m * config_.sure_leg_radius_m;
-  auto near_reported = [&](std::size_t b, std::size_t e) {
-    if (!(config_.sure_leg_radius_m > 0) || reported_before.empty()) return false;
-    Eigen::Vector2d m = Eigen::Vector2d::Zero();
-    for (std::size_t k = b; k < e; ++k) m += world[k];
-    m /= double(e - b);
+  auto near_reported = [&](const Eigen::Vector2d& m_world) {
+    if (!(config_.sure_leg_radius_m > 0)) return false;
     return std::any_of(reported_before.begin(), reported_before.end(),
-                       [&](const Eigen::Vector2d& r) { return (r - m).squaredNorm() <= sure_r2; });
+                       [&](const auto& r) { return (r - m_world).squaredNorm() <= sure_r2; });
   };
   std::vector<char> cand_near;
   std::vector<SegmentFate> cand_background;  // kPersonInput: off the backgrounds
   for (const auto& [b, e] : segments) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();  // sensor frame
+    for (std::size_t k = b; k < e; ++k) mean += pts[k];
+    mean /= double(e - b);
     SegmentTrace* tr = nullptr;
     if (trace) {
       tr = &out.segments.emplace_back();
       tr->begin = b;
       tr->end = e;
-      for (std::size_t k = b; k < e; ++k) tr->mean_m += pts[k];
-      tr->mean_m /= double(e - b);
+      tr->mean_m = mean;
       tr->score = std::numeric_limits<double>::quiet_NaN();
     }
     double s = 0;
@@ -166,7 +165,8 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       if (tr) tr->fate = SegmentFate::kNotForeground;
       continue;
     }
-    const bool near = near_reported(b, e);
+    const Eigen::Vector2d mean_world = out.pose * mean;
+    const bool near = near_reported(mean_world);
     SegmentFate background = SegmentFate::kPersonInput;
     if (dc.use_background) {
       if (world_background_.is_static(std::span(world).subspan(b, e - b)))
@@ -182,11 +182,8 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       tr->fate = SegmentFate::kNotLeg;
       cand_trace.push_back(out.segments.size() - 1);
     }
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (std::size_t k = b; k < e; ++k) mean += pts[k];
-    mean /= double(e - b);
     cand.push_back(mean);
-    cand_world.push_back(out.pose * mean);
+    cand_world.push_back(mean_world);
     cand_range.emplace_back(b, e);
     score.push_back(s);
     cand_near.push_back(near);

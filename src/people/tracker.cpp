@@ -105,14 +105,16 @@ void PersonTracker::note_others(const Track& target) {
       others_at_loss_.push_back(o.id);
 }
 
+bool walks(const Track& t, const TrackerConfig& c) {
+  return t.streak >= c.reacquire_min_streak && t.velocity().norm() >= c.reacquire_min_speed_m_s &&
+         (t.position() - t.born_m).norm() >= c.reacquire_min_walk_m;
+}
+
 bool PersonTracker::may_reacquire(const Track& c) const {
   if (!target_id_ || c.id == *target_id_ || !c.confirmed || c.missed_frames != 0 ||
-      c.streak < config_.reacquire_min_streak ||
       std::find(others_at_loss_.begin(), others_at_loss_.end(), c.id) != others_at_loss_.end())
     return false;
-  // Walking: static clutter neither moves away from where it was born nor keeps a speed.
-  return c.velocity().norm() >= config_.reacquire_min_speed_m_s &&
-         (c.position() - c.born_m).norm() >= config_.reacquire_min_walk_m;
+  return walks(c, config_);
 }
 
 bool PersonTracker::reacquire(std::uint32_t id) {

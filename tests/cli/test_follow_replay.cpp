@@ -33,6 +33,19 @@ std::size_t lines_of(const std::filesystem::path& p) {
   return n;
 }
 
+/// `simulate SIMULATE_ARGS` into DIR/sim, then `follow --replay` of that folder with its own
+/// sensor poses (poses_tum.txt) into DIR/out; false, the failure reported, when either fails.
+bool simulate_and_replay(const std::filesystem::path& dir, const std::string& simulate_args) {
+  const auto sim = dir / "sim";
+  auto r = test::run_cli("simulate " + simulate_args + " --out " + sim.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  if (r.exit_code != 0) return false;
+  r = test::run_cli("follow --replay " + sim.string() + " --odom " +
+                    (sim / "poses_tum.txt").string() + " --out " + (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  return r.exit_code == 0;
+}
+
 TEST(CliFollowReplay, MovingRobotBagWithItsOdometry) {
   const char* bag = "legs_2d_tracking/general_tracking_moving_1.bag";
   FIELDLIDAR_REQUIRE_DATA(bag);
@@ -125,14 +138,8 @@ TEST(CliFollowReplay, StandingRobotWithPeopleAndWithNone) {
 // grid took their legs before a track was reported: chosen after 221 scans (docs/people.md).
 TEST(CliFollowReplay, SimulatedLawnTwoDimensionalScans) {
   const auto dir = test::temp_dir("cli_follow_replay_sim_2d");
-  const auto sim = dir / "sim", out = dir / "out";
-  auto r =
-      test::run_cli("simulate --scene lawn --sensor laser2d --frames 300 --out " + sim.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = test::run_cli("follow --replay " + sim.string() + " --odom " +
-                    (sim / "poses_tum.txt").string() + " --out " + out.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto s = summary_of(out);
+  ASSERT_TRUE(simulate_and_replay(dir, "--scene lawn --sensor laser2d --frames 300"));
+  const auto s = summary_of(dir / "out");
   EXPECT_EQ(s["frames"].get<int>(), 300);
   const auto& m = s["metrics"];
   EXPECT_LE(m["frames_before_target_chosen"].get<int>(), 25);
@@ -144,13 +151,8 @@ TEST(CliFollowReplay, SimulatedLawnSweepsWithTheirPoses) {
   // The 3D path: simulated VLP-16 sweeps of the lawn (the operator walks ahead of the moving
   // sensor), the sensor's poses from the folder's poses_tum.txt.
   const auto dir = test::temp_dir("cli_follow_replay_sim");
-  const auto sim = dir / "sim", out = dir / "out";
-  auto r = test::run_cli("simulate --scene lawn --frames 60 --out " + sim.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = test::run_cli("follow --replay " + sim.string() + " --odom " +
-                    (sim / "poses_tum.txt").string() + " --out " + out.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto s = summary_of(out);
+  ASSERT_TRUE(simulate_and_replay(dir, "--scene lawn --frames 60"));
+  const auto s = summary_of(dir / "out");
   EXPECT_EQ(s["frames"].get<int>(), 60);
   const auto& m = s["metrics"];
   // Measured (150 frames): target chosen after 2 sweeps, held in all since, 148 following.
@@ -185,14 +187,8 @@ std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& p) {
 TEST(CliFollowReplay, SimulatedLawnWithStrollersTheTargetStaysTheOperator) {
   const auto dir = test::temp_dir("cli_follow_replay_sim_2d_strollers");
   const auto sim = dir / "sim", out = dir / "out";
-  auto r = test::run_cli(
-      "simulate --scene lawn --sensor laser2d --frames 400 --seed 1 --extra-walkers 3 "
-      "--crossing --out " +
-      sim.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = test::run_cli("follow --replay " + sim.string() + " --odom " +
-                    (sim / "poses_tum.txt").string() + " --out " + out.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(simulate_and_replay(
+      dir, "--scene lawn --sensor laser2d --frames 400 --seed 1 --extra-walkers 3 --crossing"));
   std::map<int, Eigen::Vector2d> operator_at;  // people.csv: frame, stamp, id, x, y, ...
   for (const auto& f : csv_rows(sim / "people.csv"))
     if (f.size() > 4 && f[2] == "1")

@@ -75,6 +75,12 @@ void kalman_predict(Track& track, double dt_s, double accel_sigma_m_s2);
 /// X(k|k) = X(k|k-1) + K (Z - H X(k|k-1)), K = P H' (H P H' + R)^-1, P = (I - K H) P.
 void kalman_update(Track& track, const Eigen::Vector2d& z_m, double measurement_sigma_m);
 
+/// The track walks as a re-acquisition asks (TrackerConfig::reacquire_min_*): seen in
+/// reacquire_min_streak frames in a row, at reacquire_min_speed_m_s or more, and
+/// reacquire_min_walk_m from where it was born (static clutter neither keeps a speed nor moves
+/// away from where it was born).
+bool walks(const Track& track, const TrackerConfig& config);
+
 struct TrackerUpdate {
   std::vector<std::int64_t> track_of_detection;  ///< per detection: track id, or -1 (unused)
   bool target_updated = false;                   ///< the target got a detection this frame
