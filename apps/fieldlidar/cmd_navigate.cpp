@@ -39,6 +39,7 @@ struct NavigateOptions {
   double drop_band_max_m = loops::NavigateConfig{}.drop_band_max_m;
   double drop_min_slope_deg = loops::NavigateConfig{}.drop_min_slope_deg;
   double drop_radius_m = loops::NavigateConfig{}.drop_radius_m;
+  double blind_drop_clear_m = loops::NavigateConfig{}.blind_drop_clear_m;
   double margin_m = loops::NavigateConfig{}.planner.map.footprint_margin_m;
   double shadow_radius_m = loops::NavigateConfig{}.shadow_radius_m;
   double unknown_tau = loops::NavigateConfig{}.planner.map.unknown_tau;
@@ -86,6 +87,7 @@ void run(const NavigateOptions& o) {
   cfg.drop_band_max_m = o.drop_band_max_m;
   cfg.drop_min_slope_deg = o.drop_min_slope_deg;
   cfg.drop_radius_m = o.drop_radius_m;
+  cfg.blind_drop_clear_m = o.blind_drop_clear_m;
   cfg.planner.map.footprint_margin_m = o.margin_m;
   cfg.shadow_radius_m = o.shadow_radius_m;
   cfg.planner.map.unknown_tau = o.unknown_tau;
@@ -231,6 +233,13 @@ void add_navigate_command(CLI::App& app) {
                   "... looked for this far from the robot (m), beyond its blind disk")
       ->capture_default_str()
       ->check(real_in(0, 100));
+  cmd->add_option("--blind-drops", o->blind_drop_clear_m,
+                  "Cells never seen from this distance (m) of the robot out to the first ground "
+                  "beyond its blind disk are impassable when that ground lies lower than the "
+                  "robot's by more than its max step and does not lead back up to it (a "
+                  "terrace's edge beside the start); 0: off")
+      ->capture_default_str()
+      ->check(real_in(0, 10));
   cmd->add_option("--margin", o->margin_m,
                   "Clearance (m) the planner keeps around the robot's rectangle")
       ->capture_default_str()

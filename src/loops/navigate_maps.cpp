@@ -66,6 +66,7 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
     }
   drop_marks.resize(area.cell_count(), 0);
   mark_drop_bands(area, elevation, pts, known_blocked(out), rules, drop_marks);
+  mark_blind_drops(area, elevation, pts, rules, drop_marks);
   for (int iy = 0; iy < area.height; ++iy)
     for (int ix = 0; ix < area.width; ++ix)
       if (drop_marks[area.linear_index(ix, iy)] && off_goal(ix, iy))

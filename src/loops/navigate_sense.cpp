@@ -24,7 +24,14 @@ void Loop::scan() {
                      .drop_band_max_m = cfg_.drop_band_max_m,
                      .drop_min_m = robot_.max_step_m,
                      .drop_min_slope_deg = cfg_.drop_min_slope_deg,
-                     .drop_radius_m = cfg_.drop_radius_m},
+                     .drop_radius_m = cfg_.drop_radius_m,
+                     .blind_drop_clear_m = cfg_.blind_drop_clear_m,
+                     .ground_normal = placed.rotation() *
+                                      Eigen::AngleAxisd(-cfg_.lidar_pitch_deg * M_PI / 180.0,
+                                                        Eigen::Vector3d::UnitY()) *
+                                      Eigen::Vector3d::UnitZ(),
+                     .sensor_up = placed.rotation() * Eigen::Vector3d::UnitZ(),
+                     .max_slope_deg = robot_.max_slope_deg},
                     drop_marks_);
   blocked_ = known_blocked(grid_);
   check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);

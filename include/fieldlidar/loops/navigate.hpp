@@ -70,6 +70,13 @@ struct NavigateConfig {
   double drop_band_max_m = 3.0;
   double drop_min_slope_deg = 0.0;
   double drop_radius_m = 12.0;
+  /// Drops hidden in the blind disk (see mark_blind_drops): unseen cells whose centres lie from
+  /// this distance (m) of the robot out to the first ground seen beyond the blind disk are
+  /// impassable until seen when that ground lies lower than the ground the robot stands on by
+  /// more than its max_step_m and does not lead back up to it; 0: off. 1 m: the footprint's
+  /// half-diagonal (0.55 m), half a cell's diagonal and 0.1 m, so that no mark lies under the
+  /// robot as it turns in place.
+  double blind_drop_clear_m = 1.0;
   /// Cells never seen within this distance (m) of the robot (beyond its blind disk) are shadows,
   /// planned at shadow_tau rather than as unknown (see cost_shadows); 0: off. Off by default: at
   /// 12 m on the seed-0 pairs it shortened the drive round the ditch (ratio 1.357 -> 1.233) but

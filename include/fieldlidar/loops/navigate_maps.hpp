@@ -52,6 +52,17 @@ struct AreaGridRules {
   double drop_ray_share = 0.5;
   double drop_rise_per_m = 0.03;
   double drop_radius_m = 0.0;
+  /// Drops hidden in the blind disk (see mark_blind_drops): rays from blind_drop_clear_m (m; the
+  /// footprint's reach; 0: off) out to blind_drop_reach_m (m) beyond the blind radius, the ground
+  /// plane the robot stands on (its normal in the map frame), the ground's slope measured over
+  /// blind_drop_slope_run_m (m) beyond the first ground cell, clamped to max_slope_deg.
+  double blind_drop_clear_m = 0.0;
+  double blind_drop_reach_m = 3.0;
+  double blind_drop_slope_run_m = 1.0;
+  Eigen::Vector3d ground_normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d sensor_up = Eigen::Vector3d::UnitZ();  ///< the sensor's z axis, map frame
+  double blind_drop_shadow_tolerance_m = 0.75;
+  double max_slope_deg = 25.0;
 };
 
 /// The fused map's traversability, impassable and points layers on `area` (cells the fused map has
@@ -91,6 +102,27 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
 void mark_drop_bands(const GridGeometry& area, std::span<const float> elevation,
                      std::span<const float> points, std::span<const std::uint8_t> blocked,
                      const AreaGridRules& rules, std::span<std::uint8_t> marks);
+
+/// A step down beside a robot that has not moved far enough to see it: the blind disk
+/// (rules.blind_radius_m) hides the lip and the shadow below it, and the near side that
+/// mark_drop_bands needs is the ground the robot stands on. Along rays from rules.sensor_xy_m,
+/// from rules.blind_drop_clear_m out to rules.blind_drop_reach_m beyond the blind radius, the
+/// cells without a return or ground (`points` 0, `elevation` NaN) up to the first ground cell are
+/// marked in `marks` when that ground
+/// - is where the sensor's lowest beam (rules.sensor_height_m / rules.blind_radius_m, tilted
+///   with rules.sensor_up) meets it, not nearer by more than blind_drop_shadow_tolerance_m
+///   (ground seen nearer came from another pose: the band before it is no shadow of this one);
+/// - lies more than rules.drop_min_m, plus drop_rise_per_m per metre, below the plane the robot
+///   stands on (rules.sensor_z_m - rules.sensor_height_m, normal rules.ground_normal) carried
+///   out to it, and
+/// - followed back to the robot along its own slope (measured over blind_drop_slope_run_m beyond
+///   it, clamped to max_slope_deg) passes more than drop_min_m below the robot's ground: ground
+///   falling away past a crest leads back up to the robot, the foot of a terrace's edge does not.
+/// A ray meeting a return that is not ground (a rock, a wall) marks nothing. Marks stay until
+/// the cell is seen (mark_drop_bands clears them).
+void mark_blind_drops(const GridGeometry& area, std::span<const float> elevation,
+                      std::span<const float> points, const AreaGridRules& rules,
+                      std::span<std::uint8_t> marks);
 
 /// Cells never seen (no return) between inner_m and outer_m from the sensor are shadows: ground
 /// the sensor would have seen were it not hidden (behind a rock, inside a ditch or pit). They get
