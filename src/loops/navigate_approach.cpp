@@ -27,6 +27,7 @@ std::size_t Loop::approach() {
     const Pose T = poses_->lidar_pose(poses[k]);
     const sim::SimFrame frame = lidar_.scan(t, T);
     map_.add_scan(frame.cloud, sensor_, T);
+    approach_sensors_.push_back(T.translation());
   }
   r_.approach_sweeps = poses.size();
   return poses.size();

@@ -67,6 +67,22 @@ void mark_blind_drops(const GridGeometry& area, std::span<const float> elevation
     return g;
   };
 
+  // The first ground is the end of a shadow: where the lowest beam meets it from here, or from
+  // an earlier sweep's sensor behind the robot on nearly the same line (level there).
+  const double tol = rules.blind_drop_shadow_tolerance_m, min_cos = std::cos(M_PI / 6.0);
+  auto shadow_end = [&](const RayGround& g, const Eigen::Vector2d& u) {
+    const double down = lowest + std::atan2(up.head<2>().dot(u), up.z());
+    if (down > 0 && g.d1 >= (rules.sensor_z_m - g.z1) / std::tan(down) - tol) return true;
+    const Eigen::Vector2d ground = rules.sensor_xy_m + g.d1 * u;
+    for (const auto& e : rules.earlier_sensors_m) {
+      const Eigen::Vector2d v = ground - e.head<2>();
+      const double d = v.norm();
+      if (d > g.d1 && v.dot(u) >= min_cos * d && d >= (e.z() - g.z1) / std::tan(lowest) - tol)
+        return true;
+    }
+    return false;
+  };
+
   for (int k = 0; k < directions; ++k) {
     const double a = 2.0 * M_PI * k / directions;
     const Eigen::Vector2d u(std::cos(a), std::sin(a));
@@ -74,10 +90,7 @@ void mark_blind_drops(const GridGeometry& area, std::span<const float> elevation
     if (!g.found || g.unseen.empty()) continue;
     // The shadow's end: the sensor's lowest beam meets that ground there, not nearer (ground
     // nearer was seen from another pose, and the band before it is no shadow of this one).
-    const double down = lowest + std::atan2(up.head<2>().dot(u), up.z());
-    if (!(down > 0) ||
-        g.d1 < (rules.sensor_z_m - g.z1) / std::tan(down) - rules.blind_drop_shadow_tolerance_m)
-      continue;
+    if (!shadow_end(g, u)) continue;
     // Lower than the robot's own ground plane carried out to it, by more than a step ...
     const double plane = z_robot + grad.dot(g.d1 * u);
     if (!(plane - g.z1 > rules.drop_min_m + rules.drop_rise_per_m * g.d1)) continue;

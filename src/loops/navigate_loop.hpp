@@ -90,6 +90,7 @@ class Loop {
   std::vector<std::uint8_t> truth_blocked_, blocked_;
   Grid2D grid_;                           ///< the fused map on the area (planner input)
   std::vector<std::uint8_t> drop_marks_;  ///< drop bands seen so far (area_grid, mark_drop_bands)
+  std::vector<Eigen::Vector3d> approach_sensors_;     ///< the approach's sensor positions (m)
   std::unique_ptr<planning::PlanningMap> check_map_;  ///< the planner's view of grid_
   std::vector<double> step_costs_;  ///< the current plan's step costs when it was made
   NavigateResult r_;

@@ -31,7 +31,8 @@ void Loop::scan() {
                                                         Eigen::Vector3d::UnitY()) *
                                       Eigen::Vector3d::UnitZ(),
                      .sensor_up = placed.rotation() * Eigen::Vector3d::UnitZ(),
-                     .max_slope_deg = robot_.max_slope_deg},
+                     .max_slope_deg = robot_.max_slope_deg,
+                     .earlier_sensors_m = approach_sensors_},
                     drop_marks_);
   blocked_ = known_blocked(grid_);
   check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);

@@ -132,3 +132,22 @@ TEST(BlindDrops, AReturnInTheBandOrGroundSeenBeforeMarksNothing) {
   EXPECT_FALSE(before.marked(12.25, 10.25));
   EXPECT_TRUE(before.marked(12.25, 13.25));
 }
+
+TEST(BlindDrops, TheShadowsEndAsAnApproachSweepSawIt) {
+  // The robot came from 4 m behind (x = 6): from there the lowest beam meets the lower ground
+  // 1.7 / tan 15 deg = 6.3 m on, at x = 12.3, as near the edge as the robot's own (x = 16.3)
+  // does not reach.
+  Sweep s(terrace);
+  for (int iy = 14; iy <= 26; ++iy)
+    for (int ix = 24; ix < 33; ++ix) {
+      s.elevation[s.area.linear_index(ix, iy)] = 0.f;
+      s.points[s.area.linear_index(ix, iy)] = 5.f;
+    }
+  s.mark();
+  EXPECT_FALSE(s.marked(11.25, 10.25));  // no shadow of this sweep: a hollow seen from aside?
+  const std::vector<Eigen::Vector3d> approach{{6.0, 10.0, 1.7}};
+  s.rules.earlier_sensors_m = approach;
+  s.mark();
+  EXPECT_TRUE(s.marked(11.25, 10.25));  // the approach's shadow: the edge between
+  EXPECT_FALSE(s.marked(11.25, 6.25));  // the terrace beside the robot: ground at its level
+}

@@ -63,6 +63,9 @@ struct AreaGridRules {
   Eigen::Vector3d sensor_up = Eigen::Vector3d::UnitZ();  ///< the sensor's z axis, map frame
   double blind_drop_shadow_tolerance_m = 0.75;
   double max_slope_deg = 25.0;
+  /// Where the sensor stood for earlier sweeps in the map (m; the approach's): the lower ground
+  /// may be the shadow's end as one of them saw it, nearer than the robot's own lowest beam.
+  std::span<const Eigen::Vector3d> earlier_sensors_m;
 };
 
 /// The fused map's traversability, impassable and points layers on `area` (cells the fused map has
@@ -110,8 +113,9 @@ void mark_drop_bands(const GridGeometry& area, std::span<const float> elevation,
 /// cells without a return or ground (`points` 0, `elevation` NaN) up to the first ground cell are
 /// marked in `marks` when that ground
 /// - is where the sensor's lowest beam (rules.sensor_height_m / rules.blind_radius_m, tilted
-///   with rules.sensor_up) meets it, not nearer by more than blind_drop_shadow_tolerance_m
-///   (ground seen nearer came from another pose: the band before it is no shadow of this one);
+///   with rules.sensor_up) meets it, not nearer by more than blind_drop_shadow_tolerance_m, from
+///   here or from one of rules.earlier_sensors_m behind the robot within 30 deg of the ray
+///   (ground seen nearer than any of them could is no shadow's end: a hollow seen from aside);
 /// - lies more than rules.drop_min_m, plus drop_rise_per_m per metre, below the plane the robot
 ///   stands on (rules.sensor_z_m - rules.sensor_height_m, normal rules.ground_normal) carried
 ///   out to it, and
