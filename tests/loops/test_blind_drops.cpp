@@ -62,6 +62,14 @@ struct Sweep {
     rules.blind_drop_clear_m = 1.0;
     rules.ground_normal = rules.sensor_up = up;
   }
+  /// Ground at height 0 seen in cells [ix0, ix1) x [iy0, iy1] (from another pose).
+  void seen_lower_ground(int ix0, int ix1, int iy0, int iy1) {
+    for (int iy = iy0; iy <= iy1; ++iy)
+      for (int ix = ix0; ix < ix1; ++ix) {
+        elevation[area.linear_index(ix, iy)] = 0.f;
+        points[area.linear_index(ix, iy)] = 5.f;
+      }
+  }
   void mark() { loops::mark_blind_drops(area, elevation, points, rules, marks); }
   bool marked(double x, double y) const {
     return marks[area.linear_index(int(x / 0.5), int(y / 0.5))] != 0;
@@ -122,11 +130,7 @@ TEST(BlindDrops, AReturnInTheBandOrGroundSeenBeforeMarksNothing) {
   // The lower ground seen 2.5 m from the robot (from another pose, nearer than the lowest beam
   // reaches it from here): the band before it is no shadow of this sweep.
   Sweep before(terrace);
-  for (int iy = 18; iy <= 22; ++iy)
-    for (int ix = 25; ix < 40; ++ix) {
-      before.elevation[before.area.linear_index(ix, iy)] = 0.f;
-      before.points[before.area.linear_index(ix, iy)] = 5.f;
-    }
+  before.seen_lower_ground(25, 40, 18, 22);
   before.mark();
   EXPECT_FALSE(before.marked(11.75, 10.25));
   EXPECT_FALSE(before.marked(12.25, 10.25));
@@ -138,11 +142,7 @@ TEST(BlindDrops, TheShadowsEndAsAnApproachSweepSawIt) {
   // 1.7 / tan 15 deg = 6.3 m on, at x = 12.3, as near the edge as the robot's own (x = 16.3)
   // does not reach.
   Sweep s(terrace);
-  for (int iy = 14; iy <= 26; ++iy)
-    for (int ix = 24; ix < 33; ++ix) {
-      s.elevation[s.area.linear_index(ix, iy)] = 0.f;
-      s.points[s.area.linear_index(ix, iy)] = 5.f;
-    }
+  s.seen_lower_ground(24, 33, 14, 26);
   s.mark();
   EXPECT_FALSE(s.marked(11.25, 10.25));  // no shadow of this sweep: a hollow seen from aside?
   const std::vector<Eigen::Vector3d> approach{{6.0, 10.0, 1.7}};
