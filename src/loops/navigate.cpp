@@ -82,6 +82,9 @@ NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
         "navigate: blocked_goal_look_m must be finite and >= 0 (is {}), blocked_goal_approach_m "
         "in [0, 20] (is {})",
         config.blocked_goal_look_m, config.blocked_goal_approach_m));
+  if (!(config.blind_drop_clear_m >= 0.0 && config.blind_drop_clear_m <= 10.0))
+    throw Error(fmt::format("navigate: blind_drop_clear_m must be in [0, 10] (is {})",
+                            config.blind_drop_clear_m));
   detail::Loop loop(scene, sensor, config);
   return loop.run(start, goal);
 }

@@ -87,6 +87,8 @@ TEST(Navigate, BadInputIsAnError) {
            [](loops::NavigateConfig& c) { c.blocked_goal_look_m = INFINITY; });
   rejected("blocked_goal_approach_m",
            [](loops::NavigateConfig& c) { c.blocked_goal_approach_m = -1.0; });
+  rejected("blind_drop_clear_m", [](loops::NavigateConfig& c) { c.blind_drop_clear_m = NAN; });
+  rejected("blind_drop_clear_m", [](loops::NavigateConfig& c) { c.blind_drop_clear_m = -1.0; });
 }
 
 // A goal whose footprint a blocked cell (an obstacle's halo) touches is moved to the nearest free
