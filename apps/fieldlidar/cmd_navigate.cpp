@@ -153,6 +153,8 @@ void run(const NavigateOptions& o) {
                               {"min_turn_radius_m", cfg.fusion.layers.robot.min_turn_radius_m}}}};
     extra["lidar_pitch_deg"] = cfg.lidar_pitch_deg;
     extra["start_look_rad"] = cfg.start_look_rad;
+    extra["approach_m"] = cfg.approach_m;
+    extra["blind_drop_clear_m"] = cfg.blind_drop_clear_m;
     extra["noise_seed"] = cfg.sim_seed;
     if (!p.expect.empty()) extra["expected"] = p.expect;
     write_navigate_run(dir, r, extra,
