@@ -18,6 +18,7 @@
 #include "fieldlidar/io/rosbag_reader.hpp"
 #include "fieldlidar/people/leg_classifier.hpp"
 #include "fieldlidar/people/leg_training.hpp"
+#include "fieldlidar/people/scan_resample.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/scenes.hpp"
 #include "support/option_checks.hpp"
@@ -85,13 +86,14 @@ void collect(const std::string& bag, const std::string& topic,
              const std::vector<io::PoseArraySample>& truth, const people::LegDetectorConfig& base,
              double radius, std::vector<people::LabelledArc>& arcs, std::vector<double>& pairs,
              std::size_t& scans, people::SegmentSamples& samples, bool annotated,
-             const people::SegmentAugmentationConfig& augment) {
+             const people::SegmentAugmentationConfig& augment, std::vector<double>& steps) {
   io::SourceOptions so;
   so.topic = topic;
   auto src = io::FrameSource::open(bag, so);
   while (auto f = src->next()) {
     ++scans;
     const std::vector<Eigen::Vector2d> pts = people::scan_points_2d(f->cloud);
+    if (const double step = people::scan_step_rad(pts); step > 0) steps.push_back(step);
     std::vector<Eigen::Vector2d> legs;
     if (f->index < truth.size())
       for (const auto& pose : truth[f->index].poses)
@@ -131,17 +133,19 @@ void run_train(const TrainOptions& o) {
   std::vector<double> pairs;
   people::SegmentSamples samples;
   std::size_t pos_scans = 0, neg_scans = 0;
+  std::vector<double> steps;  // the positive scans' angular steps (rad)
   for (const auto& bag : o.positive)
     collect(bag, o.scan_topic, io::read_pose_arrays(bag, o.truth_topic), base, o.match_radius_m,
-            arcs, pairs, pos_scans, samples, true, o.augment);
+            arcs, pairs, pos_scans, samples, true, o.augment, steps);
+  std::vector<double> negative_steps;
   for (const auto& bag : o.negative) {
     std::vector<std::string> topics = o.negative_topics;
     if (topics.empty())
       for (const auto& t : io::bag_topics(bag))
         if (t.datatype == "sensor_msgs/LaserScan") topics.push_back(t.name);
     for (const auto& t : topics)
-      collect(bag, t, {}, base, o.match_radius_m, arcs, pairs, neg_scans, samples, false,
-              o.augment);
+      collect(bag, t, {}, base, o.match_radius_m, arcs, pairs, neg_scans, samples, false, o.augment,
+              negative_steps);
   }
   if (sim3d) {
     const auto model = SensorModel::preset(o.sensor);
@@ -178,7 +182,13 @@ void run_train(const TrainOptions& o) {
     people::BoostOptions bo;
     bo.rounds = o.rounds;
     bo.excluded_features = o.exclude_features;
-    const auto model = people::train_leg_classifier(samples.features, samples.is_leg, bo);
+    auto model = people::train_leg_classifier(samples.features, samples.is_leg, bo);
+    // The step of the scans whose legs it learned: the pipeline resamples coarser scans to it.
+    if (!steps.empty()) {
+      std::nth_element(steps.begin(), steps.begin() + std::ptrdiff_t(steps.size() / 2),
+                       steps.end());
+      model.scan_step_rad = steps[steps.size() / 2];
+    }
     model_path = out.parent_path() / (out.stem().string() + "_classifier.yaml");
     io::check_writable(model_path, o.force);
     const auto& a = o.augment;

@@ -314,6 +314,9 @@ std::string to_yaml(const LegClassifier& c) {
   if (std::isfinite(c.occupied_score_min) || std::isfinite(c.occupied_evidence_min))
     s << "  occupied_leg_score_min: " << c.occupied_score_min << "\n"
       << "  occupied_leg_evidence_min: " << c.occupied_evidence_min << "\n";
+  if (c.scan_step_rad > 0)
+    s << "  scan_step_deg: " << c.scan_step_rad * 180.0 / M_PI
+      << "  # the training scans' angular step\n";
   s << "  trees:\n";
   for (const auto& t : c.trees) {
     s << "    - {feature: " << kNames[std::size_t(t.feature)] << ", threshold: " << t.threshold
@@ -337,6 +340,13 @@ LegClassifier leg_classifier_from_yaml(const std::string& text, const std::strin
       c.occupied_score_min = finite(node, source, "occupied_leg_score_min");
     if (node["occupied_leg_evidence_min"])
       c.occupied_evidence_min = finite(node, source, "occupied_leg_evidence_min");
+    if (node["scan_step_deg"]) {
+      const double deg = finite(node, source, "scan_step_deg");
+      if (!(deg > 0 && deg <= 10))
+        throw Error(source + ": leg_classifier.scan_step_deg must be in (0, 10] deg, is " +
+                    std::to_string(deg));
+      c.scan_step_rad = deg * M_PI / 180.0;
+    }
     const YAML::Node trees = node["trees"];
     if (!trees || !trees.IsSequence() || trees.size() == 0)
       throw Error(source + ": leg_classifier.trees must be a non-empty list");

@@ -1,5 +1,7 @@
 #include "fieldlidar/people/legs_2d_pipeline.hpp"
 
+#include "fieldlidar/people/scan_resample.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -84,6 +86,14 @@ void LegPipeline2D::add_held_legs(
   }
 }
 
+std::vector<Eigen::Vector2d> LegPipeline2D::scan_at_classifier_step(
+    std::vector<Eigen::Vector2d> pts) const {
+  const auto& k = config_.detector.classifier;
+  if (!k || !(k->scan_step_rad > 0) || !(config_.resample_min_ratio > 0)) return pts;
+  if (!(scan_step_rad(pts) >= config_.resample_min_ratio * k->scan_step_rad)) return pts;
+  return resample_scan(pts, k->scan_step_rad, config_.detector.segment_jump_m);
+}
+
 LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen::Vector2d> points,
                                            const std::optional<Eigen::Isometry2d>& pose) {
   const auto& dc = config_.detector;
@@ -96,7 +106,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     out.ego_motion_ok = odometry_.last_match().ok || odometry_.last_match().iterations == 0;
   }
   const bool moving_frame = pose.has_value() || config_.estimate_ego_motion;
-  const std::vector<Eigen::Vector2d> pts = points_in_range(points, dc);
+  const std::vector<Eigen::Vector2d> pts = scan_at_classifier_step(points_in_range(points, dc));
   std::vector<Eigen::Vector2d> world;
   world.reserve(pts.size());
   for (const auto& p : pts) world.push_back(out.pose * p);

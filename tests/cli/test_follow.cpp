@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fieldlidar/people/leg_classifier.hpp"
 #include "run_cli.hpp"
 #include "test_data.hpp"
 
@@ -149,6 +150,10 @@ TEST(CliLegs, DetectionsCsvAndTrainedConfigRoundTrip) {
   EXPECT_NE(slurp(yaml).find("classifier_file: \"legs_classifier.yaml\""), std::string::npos);
   EXPECT_NE(slurp((dir / "legs_classifier.yaml").string()).find("leg_classifier:"),
             std::string::npos);
+  // With the angular step of the scans it learned (0.3516 deg on these bags).
+  const auto model = people::leg_classifier_from_yaml(
+      slurp((dir / "legs_classifier.yaml").string()), "legs_classifier.yaml");
+  EXPECT_NEAR(model.scan_step_rad * 180.0 / M_PI, 0.3516, 1e-4);
   // Held out: trained on bag 2 and one negative topic, run on bag 1; the leg recall printed
   // (NaN, with a failure recorded, when the run fails or prints none).
   const auto csv = (dir / "detections.csv").string();

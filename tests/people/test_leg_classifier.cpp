@@ -88,6 +88,15 @@ TEST(LegClassifier, LearnsArcsFromWallsAndRoundTripsThroughYaml) {
   const auto back2 = leg_classifier_from_yaml(to_yaml(with_margins), "model.yaml");
   EXPECT_DOUBLE_EQ(back2.occupied_score_min, 3.0);
   EXPECT_DOUBLE_EQ(back2.occupied_evidence_min, 7.0);
+  // So does the training scans' angular step (unknown, 0, unless set).
+  EXPECT_EQ(back.scan_step_rad, 0.0);
+  auto with_step = model;
+  with_step.scan_step_rad = 0.3515625 * M_PI / 180.0;
+  EXPECT_NEAR(leg_classifier_from_yaml(to_yaml(with_step), "model.yaml").scan_step_rad,
+              with_step.scan_step_rad, 1e-9);
+  std::string bad_step = to_yaml(with_step);
+  bad_step.replace(bad_step.find("scan_step_deg: "), 15, "scan_step_deg: -");
+  EXPECT_THROW(leg_classifier_from_yaml(bad_step, "model.yaml"), Error);
   // The classifier drives detect_legs_2d when set.
   LegDetectorConfig c = default_2d_legs();
   c.use_background = false;

@@ -65,6 +65,10 @@ struct LegClassifier {
   /// differently. -inf / -inf (what legs-train writes): no such rule.
   double occupied_score_min = -std::numeric_limits<double>::infinity();
   double occupied_evidence_min = -std::numeric_limits<double>::infinity();
+  /// The angular step of the scans it was trained on (rad; 0: unknown): its point-count, spacing
+  /// and width features are that laser's, so LegPipeline2D resamples a coarser laser's scans to
+  /// it (LegPipeline2DConfig::resample_min_ratio). YAML key scan_step_deg.
+  double scan_step_rad = 0.0;
   double score(const SegmentFeatures& f) const;
   bool is_leg(const SegmentFeatures& f) const { return score(f) > threshold; }
 };

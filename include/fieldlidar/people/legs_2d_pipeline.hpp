@@ -116,6 +116,12 @@ struct LegPipeline2DConfig {
   /// general_tracking_moving_1.bag it had dropped 41 leg segments of two walkers coming
   /// towards the robot).
   double body_range_max_m = 1.5;
+  /// A scan whose angular step (scan_step_rad) is at least this many times the classifier's
+  /// training step (LegClassifier::scan_step_rad) is resampled to that step before its segments
+  /// are scored (resample_scan): a coarser laser returns fewer points per leg than the classifier
+  /// learned. 0: never. Measured on the legs_2d bags thinned to every second beam (0.70 deg):
+  /// see docs/people.md.
+  double resample_min_ratio = 1.25;
   /// The fast sensor-frame occupancy grid does not learn the returns in the follow zone
   /// (JointTrackerConfig::zone_*, its range stretched by the tracker's gate) while the sensor
   /// turns slower than this (deg/s; 0: it always learns them). A person walking ahead of a
@@ -311,6 +317,10 @@ class LegPipeline2D {
                      std::span<const Eigen::Vector2d> pts, std::span<const Eigen::Vector2d> world,
                      bool moving_frame, std::vector<LegObservation>& obs,
                      std::vector<std::pair<std::size_t, std::size_t>>& obs_range) const;
+
+  /// The in-range points resampled to the classifier's training step when the scan is coarser
+  /// (resample_min_ratio), as they are otherwise.
+  std::vector<Eigen::Vector2d> scan_at_classifier_step(std::vector<Eigen::Vector2d> pts) const;
 
   /// `config` with the classifier's margins where unset (NaN) and the joint tracker's
   /// occupied_keep_score from them (sure_leg_radius_m).
