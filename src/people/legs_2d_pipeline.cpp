@@ -87,10 +87,12 @@ void LegPipeline2D::add_held_legs(
 }
 
 std::vector<Eigen::Vector2d> LegPipeline2D::scan_at_classifier_step(
-    std::vector<Eigen::Vector2d> pts) const {
+    std::vector<Eigen::Vector2d> pts, bool& resampled) const {
+  resampled = false;
   const auto& k = config_.detector.classifier;
   if (!k || !(k->scan_step_rad > 0) || !(config_.resample_min_ratio > 0)) return pts;
   if (!(scan_step_rad(pts) >= config_.resample_min_ratio * k->scan_step_rad)) return pts;
+  resampled = true;
   return resample_scan(pts, k->scan_step_rad, config_.detector.segment_jump_m);
 }
 
@@ -106,7 +108,11 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     out.ego_motion_ok = odometry_.last_match().ok || odometry_.last_match().iterations == 0;
   }
   const bool moving_frame = pose.has_value() || config_.estimate_ego_motion;
-  const std::vector<Eigen::Vector2d> pts = scan_at_classifier_step(points_in_range(points, dc));
+  bool resampled = false;
+  const std::vector<Eigen::Vector2d> pts =
+      scan_at_classifier_step(points_in_range(points, dc), resampled);
+  // A resampled scan's segments need a margin over the classifier's threshold.
+  const double resample_margin = resampled ? config_.resample_score_margin : 0.0;
   std::vector<Eigen::Vector2d> world;
   world.reserve(pts.size());
   for (const auto& p : pts) world.push_back(out.pose * p);
@@ -161,7 +167,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     }
     double s = 0;
     if (dc.classifier) {
-      s = dc.classifier->score(segment_features(pts, b, e));
+      s = dc.classifier->score(segment_features(pts, b, e)) - resample_margin;
       if (tr) tr->score = s - dc.classifier->threshold;
       if (s <= config_.candidate_score_min) continue;
       s -= dc.classifier->threshold;

@@ -189,11 +189,12 @@ std::vector<Eigen::Vector2d> every_second(const std::vector<Eigen::Vector2d>& po
 }
 
 // A laser twice as coarse (0.70 deg): the classifier learned 0.35 deg scans (its scan_step_deg),
-// and the pipeline resamples a scan 1.25 times as coarse or more to that step
-// (LegPipeline2DConfig::resample_min_ratio). Measured, positive_1..4 leg recall: thinned 0.843 /
-// 0.759 / 0.774 / 0.949 without, 0.963 / 0.974 / 0.948 / 0.998 with (0.969 / 0.983 / 0.961 /
-// 0.998 unthinned); negative_2 false persons per scan (left, rear, right) 0 / 0.014 / 0.034
-// without, 0.090 / 0.048 / 0.131 with (0 / 0 / 0 unthinned).
+// and the pipeline resamples a scan 1.25 times as coarse or more to that step, its segments then
+// scored with a margin of 1 (LegPipeline2DConfig::resample_min_ratio, resample_score_margin).
+// Measured, positive_1..4 leg recall: thinned 0.843 / 0.759 / 0.774 / 0.949 without, 0.901 /
+// 0.931 / 0.909 / 0.990 with (0.969 / 0.983 / 0.961 / 0.998 unthinned); negative_2 false persons
+// per scan (left, rear, right) 0 / 0.014 / 0.034 without, 0 / 0.016 / 0 with (0 / 0 / 0
+// unthinned; resampled without the margin 0.090 / 0.048 / 0.131).
 TEST(PeopleTrackingReal, CoarserLaserResampledToTheClassifiersStep) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d/positive_1_extracted.bag");
   FIELDLIDAR_REQUIRE_DATA("legs_2d/negative_2.bag");
@@ -213,12 +214,10 @@ TEST(PeopleTrackingReal, CoarserLaserResampledToTheClassifiersStep) {
     }
     std::printf("positive_%d thinned: leg recall %.4f resampled, %.4f not\n", b, with.recall(),
                 without.recall());
-    EXPECT_GE(with.recall(), 0.94) << b;
-    if (b < 4) {
-      EXPECT_LE(without.recall(), 0.86) << b;  // positive_4's legs stand nearer (0.949)
-    }
+    EXPECT_GE(with.recall(), 0.89) << b;
+    EXPECT_GE(with.recall(), without.recall() + 0.04) << b;
   }
-  const double max_false_persons[] = {0.11, 0.06, 0.15};
+  const double max_false_persons[] = {0.005, 0.025, 0.005};
   int i = 0;
   for (const char* topic : {"/left_scan", "/rear_scan", "/right_scan"}) {
     LegPipeline2D pipeline(shipped());
