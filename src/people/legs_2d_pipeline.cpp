@@ -113,6 +113,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
       scan_at_classifier_step(points_in_range(points, dc), resampled);
   // A resampled scan's segments need a margin over the classifier's threshold.
   const double resample_margin = resampled ? config_.resample_score_margin : 0.0;
+  out.resampled = resampled;
   std::vector<Eigen::Vector2d> world;
   world.reserve(pts.size());
   for (const auto& p : pts) world.push_back(out.pose * p);

@@ -202,11 +202,15 @@ TEST(PeopleTrackingReal, CoarserLaserResampledToTheClassifiersStep) {
   plain.resample_min_ratio = 0;
   for (int b = 1; b <= 4; ++b) {
     MatchCounts with, without;
-    LegPipeline2D resampled(shipped()), raw(plain);
+    LegPipeline2D resampled(shipped()), raw(plain), native(shipped());
+    std::size_t scans = 0, thin_resampled = 0, native_resampled = 0;
     for (const auto& scan : test::positive_scans({b})) {
       const auto thin = every_second(scan.points);
+      ++scans;
+      native_resampled += native.process(scan.stamp_s, scan.points).resampled;
       for (auto [pipeline, counts] : {std::pair{&resampled, &with}, std::pair{&raw, &without}}) {
         const auto out = pipeline->process(scan.stamp_s, thin);
+        if (pipeline == &resampled) thin_resampled += out.resampled;
         std::vector<Eigen::Vector2d> legs;
         for (const auto& l : out.legs) legs.push_back(l.position_m);
         test::score_scan(legs, scan, 0.15, *counts, false);
@@ -214,6 +218,8 @@ TEST(PeopleTrackingReal, CoarserLaserResampledToTheClassifiersStep) {
     }
     std::printf("positive_%d thinned: leg recall %.4f resampled, %.4f not\n", b, with.recall(),
                 without.recall());
+    EXPECT_EQ(thin_resampled, scans) << b;  // every thinned scan, no scan at its own step
+    EXPECT_EQ(native_resampled, 0u) << b;
     EXPECT_GE(with.recall(), 0.89) << b;
     EXPECT_GE(with.recall(), without.recall() + 0.04) << b;
   }

@@ -1,8 +1,11 @@
 #include "support/legs_runner.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include <fmt/core.h>
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/follow/replay.hpp"
@@ -88,6 +91,8 @@ FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSourc
     if (!missing_config_.empty()) throw Error(missing_config_);
     scans_2d_ = true;
     auto det = pipeline_->process(frame.stamp_s, people::scan_points_2d(frame.cloud));
+    ++scans_2d_count_;
+    resampled_ += det.resampled;
     out.segments = std::move(det.segments);
     for (const auto& l : det.legs) out.legs.push_back(l.position_m);
     for (const auto& p : det.people) {
@@ -127,7 +132,14 @@ const people::LegPipeline2DConfig& LegsRunner::config_2d() const {
 std::string LegsRunner::detector_summary() const {
   return "2D detector " + (config_path_.empty() ? std::string("defaults") : config_path_) +
          ", classifier " +
-         (classifier_path_.empty() ? std::string("none (shape tests only)") : classifier_path_);
+         (classifier_path_.empty() ? std::string("none (shape tests only)") : classifier_path_) +
+         (resampled_ == 0
+              ? std::string()
+              : fmt::format("; {} of {} scans resampled to its {:.4f} deg step (a coarser laser "
+                            "than it learned; their legs scored with a margin of {})",
+                            resampled_, scans_2d_count_,
+                            pipeline_->config().detector.classifier->scan_step_rad * 180.0 / M_PI,
+                            pipeline_->config().resample_score_margin));
 }
 
 }  // namespace fieldlidar::app

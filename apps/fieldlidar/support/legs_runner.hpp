@@ -57,7 +57,8 @@ class LegsRunner {
   /// The 2D leg pipeline's config as loaded (detector, classifier); throws fieldlidar::Error
   /// when the shipped config is missing and was needed.
   const people::LegPipeline2DConfig& config_2d() const;
-  /// "2D detector <config>, classifier <file>" for the report.
+  /// "2D detector <config>, classifier <file>" for the report, and how many scans were
+  /// resampled to the classifier's angular step (a coarser laser than it learned).
   std::string detector_summary() const;
 
  private:
@@ -70,6 +71,7 @@ class LegsRunner {
   follow::FollowConfig follow_cfg_;
   std::optional<SensorModel> sensor_;
   bool scans_2d_ = false;
+  std::size_t scans_2d_count_ = 0, resampled_ = 0;  ///< 2D scans, and those resampled
 };
 
 }  // namespace fieldlidar::app

@@ -297,6 +297,7 @@ struct LegPipeline2DOutput {
   std::size_t person_detections = 0;
   Eigen::Isometry2d pose = Eigen::Isometry2d::Identity();  ///< sensor -> fixed frame
   bool ego_motion_ok = true;           ///< false when scan matching failed on this scan
+  bool resampled = false;              ///< resampled to the classifier's step (resample_min_ratio)
   std::vector<SegmentTrace> segments;  ///< with LegPipeline2DConfig::trace_segments only
 };
 
