@@ -190,11 +190,11 @@ std::vector<Eigen::Vector2d> every_second(const std::vector<Eigen::Vector2d>& po
 
 // A laser twice as coarse (0.70 deg): the classifier learned 0.35 deg scans (its scan_step_deg),
 // and the pipeline resamples a scan 1.25 times as coarse or more to that step, its segments then
-// scored with a margin of 1 (LegPipeline2DConfig::resample_min_ratio, resample_score_margin).
-// Measured, positive_1..4 leg recall: thinned 0.843 / 0.759 / 0.774 / 0.949 without, 0.901 /
-// 0.931 / 0.909 / 0.990 with (0.969 / 0.983 / 0.961 / 0.998 unthinned); negative_2 false persons
-// per scan (left, rear, right) 0 / 0.014 / 0.034 without, 0 / 0.016 / 0 with (0 / 0 / 0
-// unthinned; resampled without the margin 0.090 / 0.048 / 0.131).
+// scored with a margin of 0.5 (LegPipeline2DConfig::resample_min_ratio, resample_score_margin).
+// Measured with the shipped classifier (trained on these bags), positive_1..4 leg recall: thinned
+// 0.843 / 0.759 / 0.774 / 0.949 without, 0.938 / 0.957 / 0.929 / 0.995 with (0.969 / 0.983 /
+// 0.961 / 0.998 unthinned); negative_2 false persons per scan (left, rear, right) 0 / 0.014 /
+// 0.034 without, 0.007 / 0.048 / 0.083 with (0 / 0 / 0 unthinned). Held out: docs/people.md.
 TEST(PeopleTrackingReal, CoarserLaserResampledToTheClassifiersStep) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d/positive_1_extracted.bag");
   FIELDLIDAR_REQUIRE_DATA("legs_2d/negative_2.bag");
@@ -220,10 +220,10 @@ TEST(PeopleTrackingReal, CoarserLaserResampledToTheClassifiersStep) {
                 without.recall());
     EXPECT_EQ(thin_resampled, scans) << b;  // every thinned scan, no scan at its own step
     EXPECT_EQ(native_resampled, 0u) << b;
-    EXPECT_GE(with.recall(), 0.89) << b;
+    EXPECT_GE(with.recall(), 0.92) << b;
     EXPECT_GE(with.recall(), without.recall() + 0.04) << b;
   }
-  const double max_false_persons[] = {0.005, 0.025, 0.005};
+  const double max_false_persons[] = {0.015, 0.06, 0.095};
   int i = 0;
   for (const char* topic : {"/left_scan", "/rear_scan", "/right_scan"}) {
     LegPipeline2D pipeline(shipped());
