@@ -1,7 +1,8 @@
 // The navigate loop's start beside an obstacle: the approach's sweeps put a rock in the roof
 // LiDAR's blind disk into the map before the first plan (NavigateConfig::approach_m), and a pose
 // the planner calls in collision is left by the shortest move the step check allows
-// (escape_path).
+// (escape_path); a terrace's edge ahead in the blind disk is read from the lower ground beyond it
+// (mark_blind_drops).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -35,7 +36,40 @@ sim::Scene rock_beside_start() {
   return scene;
 }
 
+/// A 0.5 m high terrace over x < 12 m (the rest of [0, 30] x [0, 20] m at 0): its edge, a step
+/// down the robot cannot take, 2 m ahead of a robot at (10, 10) heading east.
+sim::Scene terrace_edge_ahead() {
+  sim::Scene scene(sim::SceneKind::kCustom,
+                   sim::HeightField({0, 0}, {30, 20}, 0.25,
+                                    [](double x, double) { return x < 12.0 ? 0.5 : 0.0; }));
+  scene.set_sensor_height_m(1.2);
+  return scene;
+}
+
 }  // namespace
+
+// Started 2 m from a terrace's edge, facing it, with the goal below: no way down. The lip and
+// the shadow below it lie in the blind disk, the approach sees the lower ground only from 4.3 m
+// ahead; without the blind drops (loops::mark_blind_drops) the robot drives off the edge.
+TEST(NavigateStart, BlindDropsKeepTheRobotOnATerrace) {
+  const sim::Scene scene = terrace_edge_ahead();
+  const Pose2 start{10, 10, 0}, goal{20, 10, 0};
+  loops::NavigateConfig cfg;
+  for (double clear : {0.0, cfg.blind_drop_clear_m}) {
+    cfg.blind_drop_clear_m = clear;
+    const auto r = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
+    std::printf("blind drops from %.1f m: %s (%s), %zu frames on impassable, %.1f m driven\n",
+                clear, loops::to_string(r.outcome), r.reason.c_str(), r.frames_on_impassable,
+                r.driven_length_m);
+    EXPECT_NE(r.truth_status, planning::PlanStatus::kSuccess);  // the truth: no way down
+    if (clear == 0.0) {
+      EXPECT_GT(r.frames_on_impassable, 0u);
+    } else {
+      EXPECT_EQ(r.outcome, loops::NavigateOutcome::kUnreachable) << r.reason;
+      EXPECT_EQ(r.frames_on_impassable, 0u);
+    }
+  }
+}
 
 // The goal is north-east, so the first plan turns left at once, across the rock's cells. Without
 // the approach the rock is unseen and the footprint crosses it; with the last 2 m driven to the
