@@ -8,7 +8,6 @@
 #include <benchmark/benchmark.h>
 
 #include "fieldlidar/loops/navigate.hpp"
-#include "fieldlidar/loops/navigate_maps.hpp"
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/motion.hpp"
 #include "fieldlidar/sim/scenes.hpp"
@@ -21,7 +20,8 @@ static void BM_NavigatePlannerMap(benchmark::State& state) {
   const SensorModel sensor = SensorModel::vlp16();
   const sim::LidarSimulator lidar(scene, sensor);
   const auto motion = sim::drive_scene_route(scene, 12.0);
-  const loops::NavigateConfig cfg;
+  loops::NavigateConfig cfg;
+  if (state.range(0) == 0) cfg.blind_drop_clear_m = 0.0;
   terrain::TerrainMap map(cfg.fusion);
   Pose T = Pose::Identity();
   for (double t = 1.0; t <= 11.0; t += 0.5) {
@@ -31,23 +31,9 @@ static void BM_NavigatePlannerMap(benchmark::State& state) {
   const GridGeometry area =
       GridGeometry::covering(scene.min_m(), scene.max_m(), cfg.fusion.layers.cell_m);
   const double mast = scene.sensor_height_m();
-  loops::AreaGridRules rules{.seen_no_ground_points = cfg.seen_no_ground_points,
-                             .sensor_xy_m = T.translation().head<2>(),
-                             .sensor_z_m = T.translation().z(),
-                             .sensor_height_m = mast,
-                             .blind_radius_m = mast / std::tan(-sensor.beam_altitudes_rad[0]),
-                             .negative_impassable = cfg.negative_obstacles_impassable,
-                             .goal_xy_m = scene.max_m(),
-                             .goal_clear_m = cfg.negative_goal_clear_m,
-                             .drop_band_max_m = cfg.drop_band_max_m,
-                             .drop_min_m = cfg.fusion.layers.robot.max_step_m,
-                             .drop_min_slope_deg = cfg.drop_min_slope_deg,
-                             .drop_radius_m = cfg.drop_radius_m,
-                             .blind_drop_clear_m = state.range(0) ? cfg.blind_drop_clear_m : 0.0,
-                             .ground_normal = T.rotation().col(2),
-                             .sensor_up = T.rotation().col(2),
-                             .max_slope_deg = cfg.fusion.layers.robot.max_slope_deg,
-                             .earlier_sensors_m = {}};
+  const loops::AreaGridRules rules =
+      loops::area_grid_rules(cfg, T, T.translation().head<2>(), mast,
+                             mast / std::tan(-sensor.beam_altitudes_rad[0]), scene.max_m(), {});
   std::vector<std::uint8_t> marks;
   for (auto _ : state) {
     const Grid2D grid = loops::area_grid(map, area, rules, marks);

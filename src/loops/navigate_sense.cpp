@@ -5,6 +5,38 @@
 #include "fieldlidar/planning/planning_map.hpp"
 #include "navigate_loop.hpp"
 
+namespace fieldlidar::loops {
+
+AreaGridRules area_grid_rules(const NavigateConfig& config, const Pose& sensor_pose,
+                              const Eigen::Vector2d& robot_xy_m, double mast_m,
+                              double blind_radius_m, const Eigen::Vector2d& goal_xy_m,
+                              std::span<const Eigen::Vector3d> earlier_sensors_m) {
+  const auto& robot = config.fusion.layers.robot;
+  const Eigen::Matrix3d R = sensor_pose.rotation();
+  return {.seen_no_ground_points = config.seen_no_ground_points,
+          .sensor_xy_m = robot_xy_m,
+          .sensor_z_m = sensor_pose.translation().z(),
+          .sensor_height_m = mast_m,
+          .blind_radius_m = blind_radius_m,
+          .negative_impassable = config.negative_obstacles_impassable,
+          .goal_xy_m = goal_xy_m,
+          .goal_clear_m = config.negative_goal_clear_m,
+          .drop_band_max_m = config.drop_band_max_m,
+          .drop_min_m = robot.max_step_m,
+          .drop_min_slope_deg = config.drop_min_slope_deg,
+          .drop_radius_m = config.drop_radius_m,
+          .blind_drop_clear_m = config.blind_drop_clear_m,
+          .ground_normal =
+              R *
+              Eigen::AngleAxisd(-config.lidar_pitch_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()) *
+              Eigen::Vector3d::UnitZ(),
+          .sensor_up = R * Eigen::Vector3d::UnitZ(),
+          .max_slope_deg = robot.max_slope_deg,
+          .earlier_sensors_m = earlier_sensors_m};
+}
+
+}  // namespace fieldlidar::loops
+
 namespace fieldlidar::loops::detail {
 
 void Loop::scan() {
@@ -13,26 +45,8 @@ void Loop::scan() {
   const Pose placed = poses_->place_sweep(frame.cloud, t_, pose_);
   map_.add_scan(frame.cloud, sensor_, placed);
   grid_ = area_grid(map_, area_,
-                    {.seen_no_ground_points = cfg_.seen_no_ground_points,
-                     .sensor_xy_m = {me().x_m, me().y_m},
-                     .sensor_z_m = placed.translation().z(),
-                     .sensor_height_m = mast_m_,
-                     .blind_radius_m = blind_radius_m_,
-                     .negative_impassable = cfg_.negative_obstacles_impassable,
-                     .goal_xy_m = {goal_.x_m, goal_.y_m},
-                     .goal_clear_m = cfg_.negative_goal_clear_m,
-                     .drop_band_max_m = cfg_.drop_band_max_m,
-                     .drop_min_m = robot_.max_step_m,
-                     .drop_min_slope_deg = cfg_.drop_min_slope_deg,
-                     .drop_radius_m = cfg_.drop_radius_m,
-                     .blind_drop_clear_m = cfg_.blind_drop_clear_m,
-                     .ground_normal = placed.rotation() *
-                                      Eigen::AngleAxisd(-cfg_.lidar_pitch_deg * M_PI / 180.0,
-                                                        Eigen::Vector3d::UnitY()) *
-                                      Eigen::Vector3d::UnitZ(),
-                     .sensor_up = placed.rotation() * Eigen::Vector3d::UnitZ(),
-                     .max_slope_deg = robot_.max_slope_deg,
-                     .earlier_sensors_m = approach_sensors_},
+                    area_grid_rules(cfg_, placed, {me().x_m, me().y_m}, mast_m_, blind_radius_m_,
+                                    {goal_.x_m, goal_.y_m}, approach_sensors_),
                     drop_marks_);
   blocked_ = known_blocked(grid_);
   check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);

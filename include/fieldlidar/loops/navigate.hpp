@@ -24,6 +24,7 @@
 
 #include "fieldlidar/core/grid2d.hpp"
 #include "fieldlidar/core/sensor_model.hpp"
+#include "fieldlidar/loops/navigate_maps.hpp"
 #include "fieldlidar/loops/pose_source.hpp"
 #include "fieldlidar/planning/hybrid_astar.hpp"
 #include "fieldlidar/planning/path_follower.hpp"
@@ -270,6 +271,15 @@ struct NavigateResult {
 NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
                             const planning::Pose2& start, const planning::Pose2& goal,
                             const NavigateConfig& config = {});
+
+/// The rules of the planner map (area_grid) the loop rebuilds after each sweep: `config`'s
+/// settings and robot, the sweep's sensor pose (map frame; its lidar_pitch_deg undone for the
+/// ground the robot stands on), the robot at `robot_xy_m`, the mast's height and the sensor's
+/// blind radius (m), the goal, and the sensor positions of earlier sweeps (the approach's).
+AreaGridRules area_grid_rules(const NavigateConfig& config, const Pose& sensor_pose,
+                              const Eigen::Vector2d& robot_xy_m, double mast_m,
+                              double blind_radius_m, const Eigen::Vector2d& goal_xy_m,
+                              std::span<const Eigen::Vector3d> earlier_sensors_m);
 
 /// CSV of the log: t_s,x_m,y_m,yaw_rad,v_m_s,yaw_rate_rad_s,planned_length_m,cell_ix,cell_iy,
 /// cell_passable_truth,footprint_on_impassable,state,replans
