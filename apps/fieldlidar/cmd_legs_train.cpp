@@ -81,19 +81,20 @@ void collect_simulated(int frames, const SensorModel& model, std::vector<people:
 constexpr double kFarFromLegM = 0.5;
 
 /// Adds the arcs of every scan of `topic` in `bag`, labelled against `truth` (PoseArray i belongs
-/// to scan i; empty truth = no people).
+/// to scan i; empty truth = no people), and each scan's angular step to `steps` when given.
 void collect(const std::string& bag, const std::string& topic,
              const std::vector<io::PoseArraySample>& truth, const people::LegDetectorConfig& base,
              double radius, std::vector<people::LabelledArc>& arcs, std::vector<double>& pairs,
              std::size_t& scans, people::SegmentSamples& samples, bool annotated,
-             const people::SegmentAugmentationConfig& augment, std::vector<double>& steps) {
+             const people::SegmentAugmentationConfig& augment, std::vector<double>* steps) {
   io::SourceOptions so;
   so.topic = topic;
   auto src = io::FrameSource::open(bag, so);
   while (auto f = src->next()) {
     ++scans;
     const std::vector<Eigen::Vector2d> pts = people::scan_points_2d(f->cloud);
-    if (const double step = people::scan_step_rad(pts); step > 0) steps.push_back(step);
+    if (steps)
+      if (const double step = people::scan_step_rad(pts); step > 0) steps->push_back(step);
     std::vector<Eigen::Vector2d> legs;
     if (f->index < truth.size())
       for (const auto& pose : truth[f->index].poses)
@@ -136,8 +137,7 @@ void run_train(const TrainOptions& o) {
   std::vector<double> steps;  // the positive scans' angular steps (rad)
   for (const auto& bag : o.positive)
     collect(bag, o.scan_topic, io::read_pose_arrays(bag, o.truth_topic), base, o.match_radius_m,
-            arcs, pairs, pos_scans, samples, true, o.augment, steps);
-  std::vector<double> negative_steps;
+            arcs, pairs, pos_scans, samples, true, o.augment, &steps);
   for (const auto& bag : o.negative) {
     std::vector<std::string> topics = o.negative_topics;
     if (topics.empty())
@@ -145,7 +145,7 @@ void run_train(const TrainOptions& o) {
         if (t.datatype == "sensor_msgs/LaserScan") topics.push_back(t.name);
     for (const auto& t : topics)
       collect(bag, t, {}, base, o.match_radius_m, arcs, pairs, neg_scans, samples, false, o.augment,
-              negative_steps);
+              nullptr);
   }
   if (sim3d) {
     const auto model = SensorModel::preset(o.sensor);

@@ -87,11 +87,12 @@ void LegPipeline2D::add_held_legs(
 }
 
 std::vector<Eigen::Vector2d> LegPipeline2D::scan_at_classifier_step(
-    std::vector<Eigen::Vector2d> pts, bool& resampled) const {
+    std::vector<Eigen::Vector2d> pts, bool& resampled) {
   resampled = false;
   const auto& k = config_.detector.classifier;
   if (!k || !(k->scan_step_rad > 0) || !(config_.resample_min_ratio > 0)) return pts;
-  if (!(scan_step_rad(pts) >= config_.resample_min_ratio * k->scan_step_rad)) return pts;
+  if (!(laser_step_rad_ > 0)) laser_step_rad_ = scan_step_rad(pts);
+  if (!(laser_step_rad_ >= config_.resample_min_ratio * k->scan_step_rad)) return pts;
   resampled = true;
   return resample_scan(pts, k->scan_step_rad, config_.detector.segment_jump_m);
 }

@@ -89,9 +89,8 @@ FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSourc
   if (follow::is_planar_scan(frame.cloud)) {
     // A 2D scan is one ring: points in beam order. Persons are the pipeline's tracked people.
     if (!missing_config_.empty()) throw Error(missing_config_);
-    scans_2d_ = true;
+    ++scans_2d_;
     auto det = pipeline_->process(frame.stamp_s, people::scan_points_2d(frame.cloud));
-    ++scans_2d_count_;
     resampled_ += det.resampled;
     out.segments = std::move(det.segments);
     for (const auto& l : det.legs) out.legs.push_back(l.position_m);
@@ -137,7 +136,7 @@ std::string LegsRunner::detector_summary() const {
               ? std::string()
               : fmt::format("; {} of {} scans resampled to its {:.4f} deg step (a coarser laser "
                             "than it learned; their legs scored with a margin of {})",
-                            resampled_, scans_2d_count_,
+                            resampled_, scans_2d_,
                             pipeline_->config().detector.classifier->scan_step_rad * 180.0 / M_PI,
                             pipeline_->config().resample_score_margin));
 }

@@ -53,7 +53,7 @@ class LegsRunner {
   /// One frame of `source` (which gives the sensor model of 3D frames).
   FrameLegsPeople process(const io::Frame& frame, const io::FrameSource& source);
   /// True once a 2D scan was processed.
-  bool scans_2d() const { return scans_2d_; }
+  bool scans_2d() const { return scans_2d_ > 0; }
   /// The 2D leg pipeline's config as loaded (detector, classifier); throws fieldlidar::Error
   /// when the shipped config is missing and was needed.
   const people::LegPipeline2DConfig& config_2d() const;
@@ -70,8 +70,7 @@ class LegsRunner {
   people::PersonTracker tracker_;
   follow::FollowConfig follow_cfg_;
   std::optional<SensorModel> sensor_;
-  bool scans_2d_ = false;
-  std::size_t scans_2d_count_ = 0, resampled_ = 0;  ///< 2D scans, and those resampled
+  std::size_t scans_2d_ = 0, resampled_ = 0;  ///< 2D scans processed, and those resampled
 };
 
 }  // namespace fieldlidar::app

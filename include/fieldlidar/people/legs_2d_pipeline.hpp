@@ -327,10 +327,11 @@ class LegPipeline2D {
                      bool moving_frame, std::vector<LegObservation>& obs,
                      std::vector<std::pair<std::size_t, std::size_t>>& obs_range) const;
 
-  /// The in-range points resampled to the classifier's training step when the scan is coarser
-  /// (resample_min_ratio), as they are otherwise.
+  /// The in-range points resampled to the classifier's training step when the laser is coarser
+  /// (resample_min_ratio), as they are otherwise. The laser's step is measured on the first scan
+  /// that shows one (scan_step_rad) and kept: it does not change within a stream.
   std::vector<Eigen::Vector2d> scan_at_classifier_step(std::vector<Eigen::Vector2d> pts,
-                                                       bool& resampled) const;
+                                                       bool& resampled);
 
   /// `config` with the classifier's margins where unset (NaN) and the joint tracker's
   /// occupied_keep_score from them (sure_leg_radius_m).
@@ -349,6 +350,7 @@ class LegPipeline2D {
   /// The last scan's pose and stamp (the sensor's turn rate).
   std::optional<std::pair<double, Eigen::Isometry2d>> last_pose_;
   double turn_rate_deg_s_ = 0;
+  double laser_step_rad_ = 0;  ///< the stream's angular step (scan_at_classifier_step; 0: not yet)
 };
 
 }  // namespace fieldlidar::people
