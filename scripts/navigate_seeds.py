@@ -14,11 +14,13 @@ usage: navigate_seeds.py FIRST LAST OUT [--fieldlidar PATH] [--jobs N] [-- NAVIG
 import argparse
 import concurrent.futures
 import csv
+import math
 import os
 import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+BLIND_RADIUS_M = 4.5  # 1.2 m / tan(15 deg): the default sensor and mast
 
 
 def run_seed(seed, out, fieldlidar, extra):
@@ -37,7 +39,22 @@ def run_seed(seed, out, fieldlidar, extra):
                     os.path.join(folder, "runs")] + extra,
                    check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     with open(os.path.join(folder, "runs", "pairs.csv")) as f:
-        return [dict(row, seed=seed) for row in csv.DictReader(f)]
+        rows = [dict(row, seed=seed) for row in csv.DictReader(f)]
+    for row in rows:
+        row["first_touch_m"] = first_touch_m(os.path.join(folder, "runs", row["pair"]))
+    return rows
+
+
+def first_touch_m(run):
+    """How far (m, straight) from its start a drive's footprint first touched a truth-impassable
+    cell (navigate_log.csv); None when it never did."""
+    with open(os.path.join(run, "navigate_log.csv")) as f:
+        log = list(csv.DictReader(f))
+    for row in log:
+        if int(row["footprint_on_impassable"]):
+            return math.hypot(float(row["x_m"]) - float(log[0]["x_m"]),
+                              float(row["y_m"]) - float(log[0]["y_m"]))
+    return None
 
 
 def summary(rows):
@@ -49,6 +66,7 @@ def summary(rows):
     ratios = [float(r["ratio"]) for r in arrived]
     touched = [r for r in rows if int(r["frames_on_impassable"]) > 0]
     deep = [r for r in touched if float(r["max_impassable_depth_m"]) >= 0.1]
+    near = [r for r in touched if r["first_touch_m"] <= BLIND_RADIUS_M]
     lines = [
         f"{len(rows)} pairs; {len(arrived)} of {len(reach)} goals the truth plan reaches arrived "
         f"(not: {' '.join(name(r) + '/' + r['outcome'] for r in reach if r['outcome'] != 'arrived')})",
@@ -58,7 +76,10 @@ def summary(rows):
         f"({sum(int(r['frames_on_impassable']) for r in touched)} frames), {len(deep)} of them "
         f"0.10 m or more into such a cell: "
         + " ".join(f"{name(r)}:{r['frames_on_impassable']}/{float(r['max_impassable_depth_m']):.2f}"
-                   for r in touched),
+                   f"@{r['first_touch_m']:.1f}" for r in touched),
+        f"  (frames/deepest m@where first touched, m from the start) {len(near)} of them first "
+        f"within {BLIND_RADIUS_M} m of their start, in the start's blind disk (a level VLP-16 on "
+        f"the 1.2 m mast sees no ground nearer; the approach's sweeps see part of it)",
         f"  {sum(r['outcome'] == 'unreachable' for r in unreach)} of {len(unreach)} goals the "
         f"truth plan does not reach reported unreachable",
     ]
