@@ -40,6 +40,7 @@ struct NavigateOptions {
   double drop_min_slope_deg = loops::NavigateConfig{}.drop_min_slope_deg;
   double drop_radius_m = loops::NavigateConfig{}.drop_radius_m;
   double blind_drop_clear_m = loops::NavigateConfig{}.blind_drop_clear_m;
+  double tilt_stop_deg = loops::NavigateConfig{}.tilt_stop_deg;
   double margin_m = loops::NavigateConfig{}.planner.map.footprint_margin_m;
   double shadow_radius_m = loops::NavigateConfig{}.shadow_radius_m;
   double unknown_tau = loops::NavigateConfig{}.planner.map.unknown_tau;
@@ -88,6 +89,7 @@ void run(const NavigateOptions& o) {
   cfg.drop_min_slope_deg = o.drop_min_slope_deg;
   cfg.drop_radius_m = o.drop_radius_m;
   cfg.blind_drop_clear_m = o.blind_drop_clear_m;
+  cfg.tilt_stop_deg = o.tilt_stop_deg;
   cfg.planner.map.footprint_margin_m = o.margin_m;
   cfg.shadow_radius_m = o.shadow_radius_m;
   cfg.planner.map.unknown_tau = o.unknown_tau;
@@ -155,6 +157,7 @@ void run(const NavigateOptions& o) {
     extra["start_look_rad"] = cfg.start_look_rad;
     extra["approach_m"] = cfg.approach_m;
     extra["blind_drop_clear_m"] = cfg.blind_drop_clear_m;
+    extra["tilt_stop_deg"] = cfg.tilt_stop_deg;
     extra["noise_seed"] = cfg.sim_seed;
     if (!p.expect.empty()) extra["expected"] = p.expect;
     write_navigate_run(dir, r, extra,
@@ -242,6 +245,11 @@ void add_navigate_command(CLI::App& app) {
                   "terrace's edge beside the start); 0: off")
       ->capture_default_str()
       ->check(real_in(0, 10));
+  cmd->add_option("--tilt-stop", o->tilt_stop_deg,
+                  "Tilted more than this (deg) while driving, the robot stops, takes the ground "
+                  "under the front of its footprint as impassable and plans again; 0: off")
+      ->capture_default_str()
+      ->check(real_in(0, 90));
   cmd->add_option("--margin", o->margin_m,
                   "Clearance (m) the planner keeps around the robot's rectangle")
       ->capture_default_str()

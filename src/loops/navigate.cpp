@@ -85,6 +85,9 @@ NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
   if (!(config.blind_drop_clear_m >= 0.0 && config.blind_drop_clear_m <= 10.0))
     throw Error(fmt::format("navigate: blind_drop_clear_m must be in [0, 10] (is {})",
                             config.blind_drop_clear_m));
+  if (!(config.tilt_stop_deg >= 0.0 && config.tilt_stop_deg <= 90.0))
+    throw Error(
+        fmt::format("navigate: tilt_stop_deg must be in [0, 90] (is {})", config.tilt_stop_deg));
   detail::Loop loop(scene, sensor, config);
   return loop.run(start, goal);
 }

@@ -64,6 +64,12 @@ class Loop {
   /// True when the next pose's footprint would enter a cell the map knows to be impassable that
   /// the robot does not already stand on.
   bool enters_known_blocked(const Pose2& next) const;
+  /// NavigateConfig::tilt_stop_deg: true when the robot, moving at `v_m_s`, stands tilted more
+  /// than that and more than at its last driving step; the cells under the leading half of its
+  /// footprint are then felt_ and the map is updated at once.
+  bool tilt_stop(double v_m_s);
+  /// grid_ with the felt_ cells impassable, then blocked_ and check_map_ from it.
+  void use_grid();
   /// The footprint at `pose`, shrunk by `shrink_m` on every side, overlaps a truth-impassable
   /// cell (or leaves the area).
   bool on_truth_impassable(const Pose2& pose, double shrink_m = 0.0) const;
@@ -90,6 +96,7 @@ class Loop {
   std::vector<std::uint8_t> truth_blocked_, blocked_;
   Grid2D grid_;                           ///< the fused map on the area (planner input)
   std::vector<std::uint8_t> drop_marks_;  ///< drop bands seen so far (area_grid, mark_drop_bands)
+  std::vector<std::uint8_t> felt_;        ///< cells the tilt stop found impassable (for good)
   std::vector<Eigen::Vector3d> approach_sensors_;     ///< the approach's sensor positions (m)
   std::unique_ptr<planning::PlanningMap> check_map_;  ///< the planner's view of grid_
   std::vector<double> step_costs_;  ///< the current plan's step costs when it was made
@@ -98,6 +105,7 @@ class Loop {
   std::optional<NavigatePoses> poses_;  ///< the pose the robot works with (me())
   const Pose2& me() const { return poses_->estimate(); }
   double t_ = 0, v_ = 0, last_plan_t_ = -1e9, scan_ms_ = 0, plan_ms_ = 0;
+  double tilt_rad_ = 0;        ///< the chassis' tilt at the last driving step (rad)
   double blind_radius_m_ = 0;  ///< no ground return nearer the sensor than this (m)
   double mast_m_ = 0;          ///< the sensor's height above the ground under the robot (m)
   bool map_updated_ = false, done_ = false;

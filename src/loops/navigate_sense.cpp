@@ -1,8 +1,13 @@
 // The navigate loop's senses: one sweep mapped (and the planner's view of the map rebuilt), the
-// robot's footprint against the built map (the emergency stop) and against the truth (the score).
+// robot's footprint against the built map (the emergency stop), its tilt (the tilt stop: the IMU,
+// here the chassis on the true ground) and the footprint against the truth (the score).
+
+#include <algorithm>
+#include <cmath>
 
 #include "fieldlidar/loops/navigate_maps.hpp"
 #include "fieldlidar/planning/planning_map.hpp"
+#include "fieldlidar/sim/motion.hpp"
 #include "navigate_loop.hpp"
 
 namespace fieldlidar::loops {
@@ -48,11 +53,41 @@ void Loop::scan() {
                     area_grid_rules(cfg_, placed, {me().x_m, me().y_m}, mast_m_, blind_radius_m_,
                                     {goal_.x_m, goal_.y_m}, approach_sensors_),
                     drop_marks_);
-  blocked_ = known_blocked(grid_);
-  check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);
+  use_grid();
   map_updated_ = true;
   ++r_.scans;
   scan_ms_ += ms_since(t0);
+}
+
+void Loop::use_grid() {
+  if (!felt_.empty()) {
+    auto imp = grid_.layer(terrain::layer::kImpassable);
+    for (std::size_t i = 0; i < felt_.size(); ++i)
+      if (felt_[i]) imp[i] = 1.f;
+  }
+  blocked_ = known_blocked(grid_);
+  check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);
+}
+
+bool Loop::tilt_stop(double v_m_s) {
+  if (!(cfg_.tilt_stop_deg > 0) || std::abs(v_m_s) < 1e-6) return false;
+  const Eigen::Vector3d up =
+      sim::pose_on_ground(scene_, {pose_.x_m, pose_.y_m}, pose_.yaw_rad).rotation() *
+      Eigen::Vector3d::UnitZ();
+  const double tilt = std::acos(std::clamp(up.z(), -1.0, 1.0)), before = tilt_rad_;
+  tilt_rad_ = tilt;
+  // Over the limit and tilting further: a move that levels the robot (backing out) goes on.
+  if (!(tilt > cfg_.tilt_stop_deg * M_PI / 180.0) || !(tilt > before + 1e-3)) return false;
+  // The leading half of the footprint (where the robot is, by its own pose), ahead of its centre
+  // in the direction it drives.
+  const double sign = v_m_s > 0 ? 1.0 : -1.0, quarter = 0.25 * robot_.length_m;
+  const Pose2 lead{me().x_m + sign * quarter * std::cos(me().yaw_rad),
+                   me().y_m + sign * quarter * std::sin(me().yaw_rad), me().yaw_rad};
+  felt_.resize(area_.cell_count(), 0);
+  for (long c : planning::rectangle_cells(area_, lead, quarter, 0.5 * robot_.width_m))
+    if (c >= 0) felt_[std::size_t(c)] = 1;
+  use_grid();
+  return true;
 }
 
 bool Loop::enters_known_blocked(const Pose2& next) const {

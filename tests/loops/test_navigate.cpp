@@ -89,6 +89,8 @@ TEST(Navigate, BadInputIsAnError) {
            [](loops::NavigateConfig& c) { c.blocked_goal_approach_m = -1.0; });
   rejected("blind_drop_clear_m", [](loops::NavigateConfig& c) { c.blind_drop_clear_m = NAN; });
   rejected("blind_drop_clear_m", [](loops::NavigateConfig& c) { c.blind_drop_clear_m = -1.0; });
+  rejected("tilt_stop_deg", [](loops::NavigateConfig& c) { c.tilt_stop_deg = NAN; });
+  rejected("tilt_stop_deg", [](loops::NavigateConfig& c) { c.tilt_stop_deg = 95.0; });
 }
 
 // A goal whose footprint a blocked cell (an obstacle's halo) touches is moved to the nearest free

@@ -142,21 +142,27 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
 //   flanks whose cells the map finds raised even from near (seeds 8, 16), one start beside the
 //   hill with no path (seed 7 p6), one goal after a 65 m search (seed 9 p11, time limit).
 //   11 drives put the footprint on truth-impassable cells: starts 1-2 m from a rock or the
-//   ditch's end, in the blind disk of the start and of the approach (seed 21 p9 drives along
-//   the ditch it starts beside: 95 frames), and gaps between rocks the map leaves open and the
-//   truth's discs close; 311 frames in all (374 before the blind drops: seed 11 p4, beside the
-//   ditch's end, 92 -> 29).
+//   ditch's end, in the blind disk of the start and of the approach (seed 21 p9 turns into
+//   the ditch it starts beside, in the blind disk of every sweep, and is stopped by the tilt
+//   stop with its front wheels down its wall: 66 frames, 95 driving through without it), and
+//   gaps between rocks the map leaves open and the truth's discs close; 282 frames in all (311
+//   without the tilt stop, 374 before the blind drops: seed 11 p4, beside the ditch's end, 92 ->
+//   29).
 // - the 26 goals on the terrace: reported unreachable (8 frames in all); the 18 starts there are
 //   all reported unreachable, 0 frames (before the drop bands all 18 drove off its step, up to
 //   119 frames; with them 15 were reported and 4 drives touched the step, 126 frames, until the
 //   blind drops).
 TEST(NavigatePairs, RandomPairsSeeds6To21) {
   const Tally t = drive_random_pairs(
-      6, 21, [](std::uint64_t, const std::string&) { return 100u; }, 0);
+      6, 21,
+      [](std::uint64_t seed, const std::string& name) {
+        return seed == 21 && name == "p9" ? 70u : 100u;
+      },
+      0);
   EXPECT_EQ(t.reachable, 148);
   EXPECT_GE(t.arrived, 144);
   EXPECT_LE(t.reachable_drives_with_frames, 11);
-  EXPECT_LE(t.reachable_frames, 330u);
+  EXPECT_LE(t.reachable_frames, 295u);
   EXPECT_LE(t.over, 10);
   EXPECT_LE(t.mean(), 1.055);
   EXPECT_LE(t.ratio_max, 2.05);

@@ -177,6 +177,7 @@ nlohmann::json navigate_summary(const loops::NavigateResult& r) {
   j["plans"] = r.plans.size();
   j["replans"] = r.replans;
   j["safety_stops"] = r.safety_stops;
+  j["tilt_stops"] = r.tilt_stops;
   j["escapes"] = r.escapes;
   j["approach_sweeps"] = r.approach_sweeps;
   j["scans"] = r.scans;

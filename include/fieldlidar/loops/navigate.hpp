@@ -78,6 +78,11 @@ struct NavigateConfig {
   /// half-diagonal (0.55 m), half a cell's diagonal and 0.1 m, so that no mark lies under the
   /// robot as it turns in place.
   double blind_drop_clear_m = 1.0;
+  /// Tilt stop: the robot's attitude (its IMU; here the chassis resting on the true ground)
+  /// tilted more than this (deg) while driving is ground the map missed (a ditch's wall in the
+  /// blind disk): the robot stops, the cells under the leading half of its footprint become
+  /// impassable for good, and it plans again (out by the shortest free move first). 0: off.
+  double tilt_stop_deg = 30.0;
   /// Cells never seen within this distance (m) of the robot (beyond its blind disk) are shadows,
   /// planned at shadow_tau rather than as unknown (see cost_shadows); 0: off. Off by default: at
   /// 12 m on the seed-0 pairs it shortened the drive round the ditch (ratio 1.357 -> 1.233) but
@@ -252,7 +257,8 @@ struct NavigateResult {
   double max_impassable_depth_m = 0;
   int replans = 0;  ///< plans after the first
   int safety_stops = 0;
-  int escapes = 0;  ///< plans that began with an escape (NavigateConfig::escape_max_m)
+  int tilt_stops = 0;  ///< safety stops on a tilt over NavigateConfig::tilt_stop_deg
+  int escapes = 0;     ///< plans that began with an escape (NavigateConfig::escape_max_m)
   PoseSource pose_source = PoseSource::kTruth;
   double max_pose_error_m = 0;            ///< largest distance of the robot's pose from the truth
   std::size_t odometry_unregistered = 0;  ///< sweeps the odometry kept at its motion prior
