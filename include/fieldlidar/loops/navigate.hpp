@@ -231,7 +231,7 @@ struct PlanRecord {
   planning::Pose2 start;
   planning::PlanStatus status = planning::PlanStatus::kNoPath;
   std::string trigger;  ///< start_creep, start, creep_done, blocked, cost, period, safety_stop,
-                        ///< off_goal, hold (the detour hold looking again)
+                        ///< off_goal, hold (the detour hold looking again), tilt (the tilt stop)
   planning::Path path;
   double length_m = 0, search_ms = 0;
   int expansions = 0;
