@@ -2,7 +2,7 @@
 // LiDAR's blind disk into the map before the first plan (NavigateConfig::approach_m), and a pose
 // the planner calls in collision is left by the shortest move the step check allows
 // (escape_path); a terrace's edge ahead in the blind disk is read from the lower ground beyond it
-// (mark_blind_drops).
+// (mark_blind_drops); a trench no rule sees ends the drive into it at the tilt stop.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -42,6 +42,21 @@ sim::Scene terrace_edge_ahead() {
   sim::Scene scene(sim::SceneKind::kCustom,
                    sim::HeightField({0, 0}, {30, 20}, 0.25,
                                     [](double x, double) { return x < 12.0 ? 0.5 : 0.0; }));
+  scene.set_sensor_height_m(1.2);
+  return scene;
+}
+
+/// A trench across the way of a robot at (10, 10) heading east: 0.6 m deep, a 1 m flat bottom
+/// and 50 deg walls, its near edge `ahead_m` ahead, `half_m` either side of y = 10, on flat ground
+/// over [0, 30] x [0, 20] m.
+sim::Scene trench_ahead(double ahead_m, double half_m) {
+  const double run = 0.6 / std::tan(50.0 * std::numbers::pi / 180), x0 = 10.0 + ahead_m;
+  sim::Scene scene(sim::SceneKind::kCustom,
+                   sim::HeightField({0, 0}, {30, 20}, 0.1, [=](double x, double y) {
+                     if (std::abs(y - 10.0) > half_m) return 0.0;
+                     const double d = std::abs(x - (x0 + run + 0.5));
+                     return d < 0.5 ? -0.6 : d < 0.5 + run ? -0.6 * (0.5 + run - d) / run : 0.0;
+                   }));
   scene.set_sensor_height_m(1.2);
   return scene;
 }
@@ -147,4 +162,33 @@ TEST(NavigateStart, EscapeLeavesAPoseBesideAnObstacle) {
   for (int iy = 16; iy < 24; ++iy) block(24, iy), block(35, iy);
   const planning::PlanningMap map(grid, robot, read);
   EXPECT_FALSE(loops::escape_path(map, loops::known_blocked(grid), from, false, 1.0).has_value());
+}
+
+// A robot switched on where it stands (no approach) 1.5 m before a trench it cannot see (in the
+// blind disk, its far bank level with the robot: no rule marks it), the goal beyond. Without the
+// tilt stop it drives through the trench; with it the robot stops as its front tips down the
+// wall, takes the cells under its front as impassable and plans again from there.
+TEST(NavigateStart, TiltStopEndsADriveIntoAHiddenTrench) {
+  const sim::Scene scene = trench_ahead(1.5, 3.0);
+  loops::NavigateConfig cfg;
+  cfg.approach_m = 0.0;
+  std::size_t frames_without = 0;
+  for (double tilt : {0.0, cfg.tilt_stop_deg}) {
+    cfg.tilt_stop_deg = tilt;
+    const auto r = loops::run_navigate(scene, SensorModel::vlp16(), {10, 10, 0}, {20, 10, 0}, cfg);
+    std::printf("tilt stop %.0f deg: %s (%s), %d tilt stops, %zu frames on impassable\n", tilt,
+                loops::to_string(r.outcome), r.reason.c_str(), r.tilt_stops,
+                r.frames_on_impassable);
+    EXPECT_EQ(r.truth_status, planning::PlanStatus::kSuccess);
+    EXPECT_EQ(r.outcome, loops::NavigateOutcome::kArrived) << r.reason;
+    if (tilt == 0.0) {
+      EXPECT_EQ(r.tilt_stops, 0);
+      EXPECT_GT(r.frames_on_impassable, 90u);  // 113 measured
+      frames_without = r.frames_on_impassable;
+    } else {
+      EXPECT_GE(r.tilt_stops, 1);
+      EXPECT_LE(r.frames_on_impassable, 65u);  // 55 measured
+      EXPECT_LT(r.frames_on_impassable, frames_without);
+    }
+  }
 }
