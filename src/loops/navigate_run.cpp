@@ -86,28 +86,24 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
       }
     }
     Pose2 next = planning::integrate_unicycle(pose_, cmd.v_m_s, cmd.yaw_rate_rad_s, dt);
-    if (!done_ && tilt_stop(v_)) {
-      cmd.v_m_s = cmd.yaw_rate_rad_s = 0.0;  // tilted over: stop, the leading cells are felt
-      next = pose_;
-      pending_ = "tilt";
-      follower_.clear();
-      state_ = NavigateState::kSafetyStop;
-      ++r_.tilt_stops;
-      if (++r_.safety_stops > cfg_.max_safety_stops)
-        finish(NavigateOutcome::kFailed,
-               fmt::format("{} emergency stops before known-impassable cells or tilted over",
-                           r_.safety_stops),
-               NavigateState::kFailed);
-    } else if (!done_ && enters_known_blocked(planning::integrate_unicycle(
-                             me(), cmd.v_m_s, cmd.yaw_rate_rad_s, dt))) {
+    const bool tilted = !done_ && tilt_stop(v_);
+    if (tilted || (!done_ && enters_known_blocked(planning::integrate_unicycle(
+                                 me(), cmd.v_m_s, cmd.yaw_rate_rad_s, dt)))) {
       cmd.v_m_s = cmd.yaw_rate_rad_s = 0.0;  // emergency stop, then re-plan
       next = pose_;
-      pending_ = looking() ? "start" : "safety_stop";
-      looked_rad_ = std::max(looked_rad_, cfg_.start_look_rad);  // a blocked look ends there
+      if (tilted) {  // the leading cells are felt; the plan that led there is dropped
+        pending_ = "tilt";
+        follower_.clear();
+        ++r_.tilt_stops;
+      } else {
+        pending_ = looking() ? "start" : "safety_stop";
+        looked_rad_ = std::max(looked_rad_, cfg_.start_look_rad);  // a blocked look ends there
+      }
       state_ = NavigateState::kSafetyStop;
       if (++r_.safety_stops > cfg_.max_safety_stops)
         finish(NavigateOutcome::kFailed,
-               fmt::format("{} emergency stops before known-impassable cells", r_.safety_stops),
+               fmt::format("{} emergency stops before known-impassable cells{}", r_.safety_stops,
+                           tilted ? " or tilted over" : ""),
                NavigateState::kFailed);
     } else if (!done_ && follower_.has_path()) {
       state_ = NavigateState::kDriving;
