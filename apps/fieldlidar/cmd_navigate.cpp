@@ -41,6 +41,7 @@ struct NavigateOptions {
   double drop_radius_m = loops::NavigateConfig{}.drop_radius_m;
   double blind_drop_clear_m = loops::NavigateConfig{}.blind_drop_clear_m;
   double tilt_stop_deg = loops::NavigateConfig{}.tilt_stop_deg;
+  int guess_looks = loops::NavigateConfig{}.guess_looks;
   double margin_m = loops::NavigateConfig{}.planner.map.footprint_margin_m;
   double shadow_radius_m = loops::NavigateConfig{}.shadow_radius_m;
   double unknown_tau = loops::NavigateConfig{}.planner.map.unknown_tau;
@@ -90,6 +91,7 @@ void run(const NavigateOptions& o) {
   cfg.drop_radius_m = o.drop_radius_m;
   cfg.blind_drop_clear_m = o.blind_drop_clear_m;
   cfg.tilt_stop_deg = o.tilt_stop_deg;
+  cfg.guess_looks = o.guess_looks;
   cfg.planner.map.footprint_margin_m = o.margin_m;
   cfg.shadow_radius_m = o.shadow_radius_m;
   cfg.planner.map.unknown_tau = o.unknown_tau;
@@ -158,6 +160,7 @@ void run(const NavigateOptions& o) {
     extra["approach_m"] = cfg.approach_m;
     extra["blind_drop_clear_m"] = cfg.blind_drop_clear_m;
     extra["tilt_stop_deg"] = cfg.tilt_stop_deg;
+    extra["guess_looks_allowed"] = cfg.guess_looks;
     extra["noise_seed"] = cfg.sim_seed;
     if (!p.expect.empty()) extra["expected"] = p.expect;
     write_navigate_run(dir, r, extra,
@@ -250,6 +253,12 @@ void add_navigate_command(CLI::App& app) {
                   "under the front of its footprint as impassable and plans again; 0: off")
       ->capture_default_str()
       ->check(real_in(0, 90));
+  cmd->add_option("--guess-looks", o->guess_looks,
+                  "Before a goal cut off only by blind drops is reported unreachable, the robot "
+                  "drives to see those cells from beyond its blind disk and plans again; at most "
+                  "this many looks per drive (0: off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 20));
   cmd->add_option("--margin", o->margin_m,
                   "Clearance (m) the planner keeps around the robot's rectangle")
       ->capture_default_str()

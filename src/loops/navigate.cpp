@@ -88,6 +88,13 @@ NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
   if (!(config.tilt_stop_deg >= 0.0 && config.tilt_stop_deg <= 90.0))
     throw Error(
         fmt::format("navigate: tilt_stop_deg must be in [0, 90] (is {})", config.tilt_stop_deg));
+  if (!(config.guess_looks >= 0 && config.guess_looks <= 20) ||
+      !(config.guess_look_margin_m >= 0.0 && config.guess_look_margin_m <= 10.0) ||
+      !(config.guess_look_depth_m >= 0.0 && config.guess_look_depth_m <= 20.0))
+    throw Error(fmt::format(
+        "navigate: guess_looks must be in [0, 20] (is {}), guess_look_margin_m in [0, 10] (is "
+        "{}), guess_look_depth_m in [0, 20] (is {})",
+        config.guess_looks, config.guess_look_margin_m, config.guess_look_depth_m));
   detail::Loop loop(scene, sensor, config);
   return loop.run(start, goal);
 }

@@ -99,7 +99,8 @@ void mark_blind_drops(const GridGeometry& area, std::span<const float> elevation
     // does not (ground rising beyond is followed back level: no rise leads down to a hollow).
     if (g.sloped && !(z_robot - (g.z1 - std::min(g.slope, 0.0) * g.d1) > rules.drop_min_m))
       continue;
-    for (std::size_t i : g.unseen) marks[i] = 1;
+    for (std::size_t i : g.unseen)
+      if (!marks[i]) marks[i] = kBlindDropMark;
   }
 }
 

@@ -89,14 +89,14 @@ void mark_drop_bands(const GridGeometry& area, std::span<const float> elevation,
   for (int iy = std::max(0, cy - r); iy <= std::min(area.height - 1, cy + r); ++iy)
     for (int ix = std::max(0, cx - r); ix <= std::min(area.width - 1, cx + r); ++ix) {
       const std::size_t i = area.linear_index(ix, iy);
-      if (marks[i] || !f.unseen(i)) continue;
+      if (marks[i] == kDropBandMark || !f.unseen(i)) continue;
       const double d = f.range(ix, iy);
       if (d > rules.drop_radius_m || d < rules.blind_radius_m) continue;
       const Eigen::Vector2d ray = (area.cell_center(ix, iy) - rules.sensor_xy_m) / d;
       for (const auto& line : kDropLines)
         if (std::abs(ray.dot(Eigen::Vector2d(line[0], line[1]).normalized())) >= min_cos &&
             f.drop_on_line(ix, iy, line)) {
-          marks[i] = 1;
+          marks[i] = kDropBandMark;
           break;
         }
     }

@@ -68,6 +68,13 @@ class Loop {
   /// than that and more than at its last driving step; the cells under the leading half of its
   /// footprint are then felt_ and the map is updated at once.
   bool tilt_stop(double v_m_s);
+  /// The guessed drops (drop_marks_, not yet looked_ at) under the footprint of the plan to
+  /// `target` found with them taken as unknown; empty when there is no such plan.
+  std::vector<std::size_t> guesses_in_the_way(const Pose2& target) const;
+  /// NavigateConfig::guess_looks: when the guesses alone cut `target` off, a plan to the nearest
+  /// free pose from which they all lie beyond the blind disk is followed (look_trip_); true
+  /// when one was.
+  bool look_at_guesses(const Pose2& target);
   /// grid_ with the felt_ cells impassable, then blocked_ and check_map_ from it.
   void use_grid();
   /// The footprint at `pose`, shrunk by `shrink_m` on every side, overlaps a truth-impassable
@@ -97,6 +104,7 @@ class Loop {
   Grid2D grid_;                           ///< the fused map on the area (planner input)
   std::vector<std::uint8_t> drop_marks_;  ///< drop bands seen so far (area_grid, mark_drop_bands)
   std::vector<std::uint8_t> felt_;        ///< cells the tilt stop found impassable (for good)
+  std::vector<std::uint8_t> looked_;      ///< guessed drops a look went to see (look_at_guesses)
   std::vector<Eigen::Vector3d> approach_sensors_;     ///< the approach's sensor positions (m)
   std::unique_ptr<planning::PlanningMap> check_map_;  ///< the planner's view of grid_
   std::vector<double> step_costs_;  ///< the current plan's step costs when it was made
@@ -109,8 +117,9 @@ class Loop {
   double blind_radius_m_ = 0;  ///< no ground return nearer the sensor than this (m)
   double mast_m_ = 0;          ///< the sensor's height above the ground under the robot (m)
   bool map_updated_ = false, done_ = false;
-  bool creeping_ = false;  ///< following the cold start's creep
-  double looked_rad_ = 0;  ///< turned in place so far by the start look (start_look_rad)
+  bool creeping_ = false;   ///< following the cold start's creep
+  bool look_trip_ = false;  ///< following a plan to a viewpoint (look_at_guesses)
+  double looked_rad_ = 0;   ///< turned in place so far by the start look (start_look_rad)
   bool looking() const { return looked_rad_ < cfg_.start_look_rad; }
   std::string pending_;  ///< a re-plan asked for by the last control step
   planning::Path held_;  ///< the plan held while a detour is put off (empty: none)

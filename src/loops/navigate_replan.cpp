@@ -142,6 +142,7 @@ void Loop::plan(const std::string& trigger) {
   if (r_.plans.size() > 1) ++r_.replans;
   if (p.ok() && hold_instead_of(planning::path_length_m(r_.plans.back().path))) return;
   if (p.ok()) {
+    look_trip_ = false;
     step_costs_ = planning::path_step_costs(*check_map_, p.path, planner_cfg_.tau_weight,
                                             planner_cfg_.reverse_factor);
     follower_.set_path(std::move(p.path));
@@ -149,10 +150,13 @@ void Loop::plan(const std::string& trigger) {
     state_ = NavigateState::kDriving;
     return;
   }
-  follower_.clear();
-  state_ = NavigateState::kPlanning;
   const bool no_way = p.status == PlanStatus::kNoPath || p.status == PlanStatus::kGoalInCollision ||
                       p.status == PlanStatus::kGoalOffMap;
+  if (look_trip_ && follower_.has_path()) return;  // on the way to look: the look goes on
+  if (no_way && look_at_guesses(target)) return;
+  look_trip_ = false;
+  follower_.clear();
+  state_ = NavigateState::kPlanning;
   if (no_way && ++unreachable_votes_ >= 2)
     finish(NavigateOutcome::kUnreachable,
            fmt::format("{} on two successive map updates", planning::to_string(p.status)),

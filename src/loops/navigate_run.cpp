@@ -74,6 +74,10 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
         finish(NavigateOutcome::kArrived,
                fmt::format("at the goal: {:.2f} m, {:.2f} rad off", d, dyaw),
                NavigateState::kArrived);
+      } else if (look_trip_) {  // at the viewpoint: plan again with what it saw
+        look_trip_ = false;
+        follower_.clear();
+        pending_ = "looked";
       } else if (held_.size() > 0) {  // at the hold point: look again (the detour, mostly)
         pending_ = "hold";
       } else if (++off_goal_plans_ > 5) {

@@ -46,6 +46,8 @@ TEST(CliNavigate, ShortDriveWritesItsFilesAndKeepsThem) {
   EXPECT_EQ(j["truth_plan_status"], "success");
   EXPECT_EQ(j["blind_drop_clear_m"], 1.0);  // the settings the drive ran with
   EXPECT_EQ(j["approach_m"], 2.0);
+  EXPECT_EQ(j["guess_looks_allowed"], 2);
+  EXPECT_EQ(j["guess_looks"], 0);
   const std::string log = slurp(out / "navigate_log.csv");
   EXPECT_EQ(log.rfind("t_s,x_m,y_m,yaw_rad,", 0), 0u);
   EXPECT_NE(log.find(",arrived,"), std::string::npos);

@@ -74,7 +74,7 @@ struct Sweep {
   bool marked(double x, double y) const {
     return marks[area.linear_index(int(x / 0.5), int(y / 0.5))] != 0;
   }
-  int count() const { return int(std::count(marks.begin(), marks.end(), 1)); }
+  int count() const { return int(std::count(marks.begin(), marks.end(), loops::kBlindDropMark)); }
 };
 
 double terrace(double x, double) {

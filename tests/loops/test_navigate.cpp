@@ -91,6 +91,8 @@ TEST(Navigate, BadInputIsAnError) {
   rejected("blind_drop_clear_m", [](loops::NavigateConfig& c) { c.blind_drop_clear_m = -1.0; });
   rejected("tilt_stop_deg", [](loops::NavigateConfig& c) { c.tilt_stop_deg = NAN; });
   rejected("tilt_stop_deg", [](loops::NavigateConfig& c) { c.tilt_stop_deg = 95.0; });
+  rejected("guess_looks", [](loops::NavigateConfig& c) { c.guess_looks = -1; });
+  rejected("guess_look_margin_m", [](loops::NavigateConfig& c) { c.guess_look_margin_m = NAN; });
 }
 
 // A goal whose footprint a blocked cell (an obstacle's halo) touches is moved to the nearest free

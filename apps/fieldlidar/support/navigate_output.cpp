@@ -178,6 +178,7 @@ nlohmann::json navigate_summary(const loops::NavigateResult& r) {
   j["replans"] = r.replans;
   j["safety_stops"] = r.safety_stops;
   j["tilt_stops"] = r.tilt_stops;
+  j["guess_looks"] = r.guess_looks;
   j["escapes"] = r.escapes;
   j["approach_sweeps"] = r.approach_sweeps;
   j["scans"] = r.scans;

@@ -83,6 +83,17 @@ struct NavigateConfig {
   /// blind disk): the robot stops, the cells under the leading half of its footprint become
   /// impassable for good, and it plans again (out by the shortest free move first). 0: off.
   double tilt_stop_deg = 30.0;
+  /// Look before giving up: a goal cut off only by blind drops (mark_blind_drops' cells, unseen
+  /// for the blind disk alone) is not reported unreachable before the robot has driven, over
+  /// ground its map lets it cross, to the nearest free pose on rings round those cells
+  /// (guess_look_margin_m to guess_look_margin_m + guess_look_depth_m beyond the blind disk, m)
+  /// from which each lies guess_look_margin_m beyond the blind disk and at most twice
+  /// guess_look_depth_m farther, and planned again there; at most this many looks per drive
+  /// (0: off). The cells a look went to see are taken as they are then. The drop bands are not
+  /// looked at: their cells lie in the shadow of a lip, which no pose above it sees into.
+  int guess_looks = 2;
+  double guess_look_margin_m = 1.0;
+  double guess_look_depth_m = 3.0;
   /// Cells never seen within this distance (m) of the robot (beyond its blind disk) are shadows,
   /// planned at shadow_tau rather than as unknown (see cost_shadows); 0: off. Off by default: at
   /// 12 m on the seed-0 pairs it shortened the drive round the ditch (ratio 1.357 -> 1.233) but
@@ -231,7 +242,8 @@ struct PlanRecord {
   planning::Pose2 start;
   planning::PlanStatus status = planning::PlanStatus::kNoPath;
   std::string trigger;  ///< start_creep, start, creep_done, blocked, cost, period, safety_stop,
-                        ///< off_goal, hold (the detour hold looking again), tilt (the tilt stop)
+                        ///< off_goal, hold (the detour hold looking again), tilt (the tilt stop),
+                        ///< look (to a viewpoint, look_at_guesses), looked (planned there)
   planning::Path path;
   double length_m = 0, search_ms = 0;
   int expansions = 0;
@@ -257,8 +269,9 @@ struct NavigateResult {
   double max_impassable_depth_m = 0;
   int replans = 0;  ///< plans after the first
   int safety_stops = 0;
-  int tilt_stops = 0;  ///< safety stops on a tilt over NavigateConfig::tilt_stop_deg
-  int escapes = 0;     ///< plans that began with an escape (NavigateConfig::escape_max_m)
+  int tilt_stops = 0;   ///< safety stops on a tilt over NavigateConfig::tilt_stop_deg
+  int guess_looks = 0;  ///< looks at guessed drops before giving up (NavigateConfig::guess_looks)
+  int escapes = 0;      ///< plans that began with an escape (NavigateConfig::escape_max_m)
   PoseSource pose_source = PoseSource::kTruth;
   double max_pose_error_m = 0;            ///< largest distance of the robot's pose from the truth
   std::size_t odometry_unregistered = 0;  ///< sweeps the odometry kept at its motion prior

@@ -106,6 +106,11 @@ void mark_drop_bands(const GridGeometry& area, std::span<const float> elevation,
                      std::span<const float> points, std::span<const std::uint8_t> blocked,
                      const AreaGridRules& rules, std::span<std::uint8_t> marks);
 
+/// The marks mark_drop_bands and mark_blind_drops leave: a drop band (a shadow behind a lip,
+/// which no pose on the lip's side can see into) and a blind drop (unseen for the blind disk
+/// alone: seen from farther it is seen); a blind drop's cell later found in a band is a band.
+constexpr std::uint8_t kDropBandMark = 1, kBlindDropMark = 2;
+
 /// A step down beside a robot that has not moved far enough to see it: the blind disk
 /// (rules.blind_radius_m) hides the lip and the shadow below it, and the near side that
 /// mark_drop_bands needs is the ground the robot stands on. Along rays from rules.sensor_xy_m,
