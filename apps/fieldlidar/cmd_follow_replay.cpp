@@ -176,6 +176,9 @@ void run_follow_replay(const FollowOptions& o) {
                   {"target_held_fraction", s.target_held_fraction()},
                   {"target_held_fraction_of_all_frames",
                    s.frames ? double(s.frames_target_held) / double(s.frames) : 0.0},
+                  {"recording_gaps", s.recording_gaps},
+                  {"frames_lost_after_gaps", s.frames_lost_after_gaps},
+                  {"target_held_fraction_between_gaps", s.target_held_fraction_between_gaps()},
                   {"target_switches", s.target_switches},
                   {"distinct_target_ids", s.distinct_target_ids},
                   {"frames_following", s.frames_following},
@@ -195,11 +198,18 @@ void run_follow_replay(const FollowOptions& o) {
   io::write_file_atomic(summary, j.dump(2) + "\n", o.force);
   fmt::print(
       "follow replay: {} frames ({:.1f} s), {}; target id {} held in {:.1f} % of the frames since "
-      "chosen ({} switches); following {} frames; stopped: {} idle, {} too close, {} too far, {} "
-      "lost ({} stops); perception {:.2f} ms per frame\nwrote {}\n",
+      "chosen ({} switches){}; following {} frames; stopped: {} idle, {} too close, {} too far, "
+      "{} lost ({} stops); perception {:.2f} ms per frame\nwrote {}\n",
       s.frames, s.duration_s, motion ? "recorded odometry" : "standing still",
       s.first_target_id ? std::int64_t(*s.first_target_id) : -1, 100 * s.target_held_fraction(),
-      s.target_switches, s.frames_following, state_frames(follow::FollowState::kIdle),
+      s.target_switches,
+      s.recording_gaps
+          ? fmt::format(", {:.1f} % without the {} frames lost after the "
+                        "recording's {} break{} of over {:.1f} s",
+                        100 * s.target_held_fraction_between_gaps(), s.frames_lost_after_gaps,
+                        s.recording_gaps, s.recording_gaps > 1 ? "s" : "", cfg.gap_s)
+          : std::string(),
+      s.frames_following, state_frames(follow::FollowState::kIdle),
       state_frames(follow::FollowState::kTooClose), state_frames(follow::FollowState::kTooFar),
       state_frames(follow::FollowState::kLost), s.stops, s.mean_perception_ms, dir.string());
 }

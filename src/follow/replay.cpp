@@ -57,6 +57,11 @@ double ReplaySummary::target_held_fraction() const {
                                    : 0.0;
 }
 
+double ReplaySummary::target_held_fraction_between_gaps() const {
+  const std::size_t chosen = frames_with_target_chosen - frames_lost_after_gaps;
+  return chosen ? double(frames_target_held) / double(chosen) : 0.0;
+}
+
 FollowReplay::FollowReplay(const SensorModel& sensor, const ReplayConfig& config)
     : config_(config),
       sensor_(sensor),
@@ -89,6 +94,10 @@ ReplayFrame FollowReplay::step(PointCloud cloud, double stamp_s,
   // Counts.
   auto& s = summary_;
   ++s.frames;
+  if (last_stamp_s_ && stamp_s - *last_stamp_s_ > config_.gap_s) {
+    ++s.recording_gaps;
+    after_gap_ = true;
+  }
   if (!first_stamp_s_) first_stamp_s_ = stamp_s;
   s.duration_s = stamp_s - *first_stamp_s_;
   last_stamp_s_ = stamp_s;
@@ -102,7 +111,12 @@ ReplayFrame FollowReplay::step(PointCloud cloud, double stamp_s,
     if (std::find(target_ids_.begin(), target_ids_.end(), *id) == target_ids_.end())
       ++s.distinct_target_ids;
     target_ids_.push_back(*id);
-    if (f.output.target_world_m) ++s.frames_target_held;
+    if (f.output.target_world_m) {
+      ++s.frames_target_held;
+      after_gap_ = false;
+    } else if (after_gap_) {
+      ++s.frames_lost_after_gaps;
+    }
   }
   // Before any target was chosen the controller says "lost" (no target): counted as idle.
   const FollowState state = id ? f.output.control.state : FollowState::kIdle;

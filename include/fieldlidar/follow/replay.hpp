@@ -43,6 +43,9 @@ struct ReplayConfig {
   /// Persons in 2D scans (the caller sets the detector and its classifier).
   people::LegPipeline2DConfig legs_2d;
   double nominal_period_s = 0.1;  ///< control period of the first frame (s)
+  /// Consecutive frames farther apart than this (s) are a break in the recording (an extracted
+  /// bag's cut), counted in ReplaySummary::recording_gaps.
+  double gap_s = 1.0;
   /// The sensor's mount on the robot's base (the frame of the recorded odometry): scans are
   /// placed in the odometry frame by T_odom_base * T_base_sensor; the mower pose is the base's.
   Pose T_base_sensor = Pose::Identity();
@@ -75,8 +78,15 @@ struct ReplaySummary {
   double mean_perception_ms = 0;
   double max_perception_ms = 0;
   double path_length_m = 0;  ///< of the recorded motion
+  /// Breaks in the recording (ReplayConfig::gap_s). A target seen before a break is lost across
+  /// it, and the frames after one until the target is held again are counted apart: over a
+  /// break the person may be anywhere, so those frames tell the recording, not the tracker.
+  std::size_t recording_gaps = 0;
+  std::size_t frames_lost_after_gaps = 0;
   /// frames_target_held / frames_with_target_chosen (0 when never chosen).
   double target_held_fraction() const;
+  /// The same without the frames lost after a break (frames_lost_after_gaps).
+  double target_held_fraction_between_gaps() const;
 };
 
 class FollowReplay {
@@ -102,6 +112,7 @@ class FollowReplay {
   std::optional<Pose2> last_mower_;
   std::vector<std::uint32_t> target_ids_;
   FollowState last_state_ = FollowState::kIdle;
+  bool after_gap_ = false;  ///< a break came and the target has not been held since
   double perception_ms_sum_ = 0;
 };
 
