@@ -19,6 +19,7 @@
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/follow/pipeline.hpp"
 #include "fieldlidar/follow/replay.hpp"
+#include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/io/kitti_calib.hpp"
 #include "fieldlidar/io/kitti_tracking_labels.hpp"
@@ -39,6 +40,7 @@ struct People3dOptions {
   double gate_m = 0.75;         ///< a person detection this near (x-y) finds the person
   double leg_radius_m = 0.6;    ///< legs this near the person's centre are "its" legs
   std::size_t max_frames = 0;   ///< 0 = all
+  bool force = false;           ///< replace an existing --out file
   /// KITTI labels cover the left colour camera's view: |x| <= this * z in the rectified frame
   /// (image 1242 px wide, f = 721.5 px: +-40.7 deg).
   double camera_half_width = 621.0 / 721.5;
@@ -74,6 +76,7 @@ void run(const People3dOptions& o) {
     throw Error("eval-people3d: give --kitti-labels (with --calib) or --point-labels");
   std::vector<io::KittiObject> objects;
   io::KittiCalib calib;
+  if (!o.out.empty()) io::check_writable(o.out, o.force, {o.input});
   if (kitti) {
     if (o.calib.empty()) throw Error("eval-people3d: --kitti-labels needs --calib");
     objects = io::read_kitti_tracking_labels(o.kitti_labels);
@@ -83,6 +86,7 @@ void run(const People3dOptions& o) {
   auto source = io::FrameSource::open(o.input);
   follow::FollowConfig cfg;
   std::vector<Annotated> people;
+  nlohmann::json false_list = nlohmann::json::array();  ///< where the false persons stand
   std::size_t frames = 0, detections = 0, false_persons = 0, legs_total = 0;
   std::size_t scored_detections = 0;
   std::size_t false_anywhere = 0;  ///< also where nothing is annotated (KITTI: outside the view)
@@ -169,6 +173,9 @@ void run(const People3dOptions& o) {
       bool near = false;
       for (const auto& a : here) near |= (p.position_m - a.center_m.head<2>()).norm() <= o.gate_m;
       false_persons += !near;
+      if (!near)
+        false_list.push_back(
+            {{"frame", frame->index}, {"x_m", p.position_m.x()}, {"y_m", p.position_m.y()}});
     }
     people.insert(people.end(), here.begin(), here.end());
     ++frames;
@@ -206,6 +213,7 @@ void run(const People3dOptions& o) {
   j["person_detections_in_annotated_view"] = scored_detections;
   j["false_persons"] = false_persons;
   j["false_persons_per_frame"] = double(false_persons) / double(frames);
+  j["false_person_detections"] = std::move(false_list);
   j["unmatched_persons_whole_sweep_per_frame"] = double(false_anywhere) / double(frames);
   j["annotated_view"] = kitti ? "KITTI camera view (+-40.7 deg)" : "whole sweep";
   j["by_type"] = by_type;
@@ -214,12 +222,7 @@ void run(const People3dOptions& o) {
   j["people"] = nlohmann::json::array();
   for (const auto& a : people) j["people"].push_back(to_json(a));
   const std::string text = j.dump(2) + "\n";
-  if (!o.out.empty()) {
-    std::FILE* f = std::fopen(o.out.c_str(), "w");
-    if (!f) throw Error(o.out + ": cannot be written");
-    std::fputs(text.c_str(), f);
-    std::fclose(f);
-  }
+  if (!o.out.empty()) io::write_file_atomic(o.out, text, o.force);
   fmt::print(
       "eval-people3d: {} frames ({}), {:.1f} legs and {:.2f} persons per frame, {:.2f} false "
       "persons per frame in the annotated view ({}), {:.0f} ms per frame (max {:.0f})\n",
@@ -257,7 +260,10 @@ void add_eval_people3d_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--max-frames", o->max_frames, "Stop after this many frames (0 = all)");
   cmd->add_option("--sensor", o->sensor, "Sensor preset when the input does not say");
-  cmd->add_option("--out", o->out, "Write the figures, per person, as JSON here");
+  cmd->add_option("--out", o->out,
+                  "Write the figures as JSON here: per annotated person, and where each false "
+                  "person detection stands (frame, x, y in the sensor frame)");
+  cmd->add_flag("--force", o->force, "Replace an existing --out file");
   cmd->callback([o] { run(*o); });
 }
 

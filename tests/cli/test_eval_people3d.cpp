@@ -28,12 +28,20 @@ TEST(CliEvalPeople3d, KittiPedestrianAndCyclistFound) {
   FIELDLIDAR_REQUIRE_DATA(kitti);
   const auto dir = test::temp_dir("cli_eval_people3d");
   const std::string d = test::data_file("kitti_tracking0000").string();
-  const auto r = test::run_cli("eval-people3d " + d + "/velodyne --kitti-labels " + d +
-                               "/label_02_0000_frames0-49.txt --calib " + d +
-                               "/calib.txt --sensor hdl64e --max-frames 6 --out " +
-                               (dir / "kitti.json").string());
+  const std::string command = "eval-people3d " + d + "/velodyne --kitti-labels " + d +
+                              "/label_02_0000_frames0-49.txt --calib " + d +
+                              "/calib.txt --sensor hdl64e --max-frames 6 --out " +
+                              (dir / "kitti.json").string();
+  const auto r = test::run_cli(command);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = read_json(dir / "kitti.json");
+  EXPECT_EQ(j["false_person_detections"].size(), j["false_persons"].get<std::size_t>());
+  // The file is not replaced without --force (and is left as it was).
+  const auto again = test::run_cli(command);
+  EXPECT_NE(again.exit_code, 0);
+  EXPECT_NE(again.output.find("kitti.json"), std::string::npos) << again.output;
+  EXPECT_EQ(read_json(dir / "kitti.json"), j);
+  EXPECT_EQ(test::run_cli(command + " --force").exit_code, 0);
   EXPECT_EQ(j["frames"].get<int>(), 6);
   // The pedestrian (300-365 points at 9.8-10.8 m) is in frames 0-5 only. Measured: 6/6 found,
   // the cyclist 6/6, 0 false persons per frame in the camera's view (50 frames: 1.82; 1.00 and
