@@ -58,8 +58,10 @@ std::vector<char> person_bodies(const PointCloud& cloud, const SensorModel& sens
     }
     const int torso_beams =
         beams_crossing(sensor, level_from_lidar, sensor_height_m, at, c.torso_min_m, c.torso_max_m);
+    const int rings_needed = std::max(
+        c.torso_min_rings, int(std::ceil(c.torso_ring_fraction * double(torso_beams) - 1e-9)));
     const bool torso_seen =
-        torso_beams < c.torso_min_rings || int(torso_rings.size()) >= c.torso_min_rings;
+        torso_beams < c.torso_min_rings || int(torso_rings.size()) >= rings_needed;
     ok[k] = torso_seen && head_clear;
   }
   return ok;

@@ -1,6 +1,7 @@
 // people::person_bodies on columns of returns built in code: a person (legs, torso, nothing
 // above the head), a post (returns up past a head's height), a bicycle rack (nothing above the
-// legs), seen by a car-roof sensor and by a low mower sensor that cannot see a chest nearby.
+// legs), an edge just over 1.1 m high (a torso band barely reached), seen by a car-roof sensor
+// and by a low mower sensor that cannot see a chest nearby.
 
 #include <gtest/gtest.h>
 
@@ -52,6 +53,27 @@ TEST(BodyCheck, PersonKeptPostAndRackDropped) {
   BodyCheckConfig off;
   off.enabled = false;
   for (const char b : person_bodies(cloud, roof, h, pairs, off)) EXPECT_TRUE(b);
+}
+
+// Something a little over 1.1 m high (a car's door edge, a box, a bumper on a trailer) reaches
+// into the torso band on a few of the beams that cross it; a body covers it on nearly all.
+TEST(BodyCheck, TorsoOnAFewOfTheCrossingBeamsIsNoBody) {
+  const SensorModel roof = SensorModel::hdl64e();
+  const double h = 1.73;
+  PointCloud cloud;
+  cloud.fields.ring = true;
+  const Eigen::Vector2d person(9.0, 1.0), edge(9.0, -3.0);
+  add_column(cloud, roof, h, person, 1.75);
+  add_column(cloud, roof, h, edge, 1.3);
+  std::vector<Person> pairs(2);
+  pairs[0].position_m = person;
+  pairs[1].position_m = edge;
+  const auto body = person_bodies(cloud, roof, h, pairs);
+  EXPECT_TRUE(body[0]);
+  EXPECT_FALSE(body[1]);
+  BodyCheckConfig rings_only;  // two rings in the band, whatever crosses it: taken for a body
+  rings_only.torso_ring_fraction = 0.0;
+  EXPECT_TRUE(person_bodies(cloud, roof, h, pairs, rings_only)[1]);
 }
 
 // A VLP-16 0.4 m above a lawn sees a chest only from a few metres out: a person 1.5 m ahead shows
