@@ -38,16 +38,17 @@ function(fieldlidar_add_module name)
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endfunction()
 
-# fieldlidar_add_test(NAME SOURCES ... LIBS ... [LABELS ...] [SLOW Suite.Test ...])
+# fieldlidar_add_test(NAME SOURCES ... LIBS ... [LABELS ...] [SLOW Suite.Test ...] [COST N])
 # A GoogleTest executable whose tests are registered with CTest. Tests that read real data get
 # FIELDLIDAR_DATA_DIR as an environment variable and skip with a message when it is absent.
 # SLOW names single tests of the executable (gtest filter patterns) that get the "slow" label
 # instead: whole-recording runs that take minutes under the sanitizers and run in Release only.
 # With FIELDLIDAR_BUILD_SLOW_TESTS=OFF an executable labelled "slow" as a whole is left out of the
 # default build and registers no tests (the sanitizer stage of scripts/test.sh, which does not
-# run them).
+# run them). COST N (about the seconds one of its tests takes in Release) goes to every test of
+# the executable.
 function(fieldlidar_add_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;SLOW" ${ARGN})
+  cmake_parse_arguments(ARG "" "COST" "SOURCES;LIBS;LABELS;SLOW" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} fieldlidar_test_support GTest::gtest_main)
   fieldlidar_target_options(${name})
@@ -76,8 +77,14 @@ function(fieldlidar_add_test name)
       DISCOVERY_TIMEOUT 60)
     set(filter TEST_FILTER "-${slow_tests}")
   endif()
+  # COST: ctest starts costlier tests first when it has no timings of an earlier run (a clean
+  # checkout), so that minutes-long tests do not start last and run alone at the end.
+  set(cost "")
+  if(ARG_COST)
+    set(cost COST ${ARG_COST})
+  endif()
   gtest_discover_tests(${name} ${filter}
-    PROPERTIES ENVIRONMENT "FIELDLIDAR_DATA_DIR=${FIELDLIDAR_DATA_DIR}" LABELS "${label}"
+    PROPERTIES ENVIRONMENT "FIELDLIDAR_DATA_DIR=${FIELDLIDAR_DATA_DIR}" LABELS "${label}" ${cost}
     DISCOVERY_TIMEOUT 60)
 endfunction()
 
