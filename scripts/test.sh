@@ -39,7 +39,7 @@ if command -v clang++ >/dev/null; then
     -DFIELDLIDAR_FUZZ=ON -DFIELDLIDAR_FUZZ_SECONDS="$FUZZ_SECONDS" -DBUILD_TESTING=ON \
     -DFIELDLIDAR_BUILD_BENCHMARKS=OFF -DFIELDLIDAR_BUILD_APPS=OFF >/dev/null
   cmake --build build/fuzz -j "$jobs" --target fuzz_all
-  ctest --test-dir build/fuzz --output-on-failure -L fuzz
+  ctest --test-dir build/fuzz --output-on-failure -j "$jobs" -L fuzz
 else
   echo "== fuzz targets skipped: clang++ not found =="
 fi
