@@ -281,7 +281,8 @@ void add_follow_command(CLI::App& app) {
                   "A ROS1 bag (or a simulate folder) to replay instead of simulating: perception, "
                   "tracking, target choice "
                   "and controller on the recorded scans, the robot's motion from the recording "
-                  "(commands logged, not applied); writes follow_log.csv and summary.json");
+                  "(commands logged, not applied); writes follow_log.csv, summary.json and "
+                  "follow.png");
   cmd->add_option("--topic", o->topic, "With --replay: the scan topic (default: the only one)");
   cmd->add_option("--odom", o->odom_topic,
                   "With --replay: nav_msgs/Odometry topic of the bag giving the robot's motion, or "

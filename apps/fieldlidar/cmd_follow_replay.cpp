@@ -19,6 +19,7 @@
 #include "fieldlidar/io/trajectory_io.hpp"
 #include "fieldlidar/loops/closed_loop.hpp"
 #include "follow_job.hpp"
+#include "support/follow_replay_picture.hpp"
 #include "support/legs_runner.hpp"
 #include "support/option_checks.hpp"
 #include "support/warnings.hpp"
@@ -89,11 +90,12 @@ void run_follow_replay(const FollowOptions& o) {
   require(cfg.follow.safety.safe_distance_m < cfg.follow.safety.max_distance_m, "--safe-distance",
           fmt::format("{} m must be below --max-distance {} m", cfg.follow.safety.safe_distance_m,
                       cfg.follow.safety.max_distance_m));
-  const fs::path dir(o.out), log = dir / "follow_log.csv", summary = dir / "summary.json";
+  const fs::path dir(o.out), log = dir / "follow_log.csv", summary = dir / "summary.json",
+                             png = dir / "follow.png";
   if (fs::exists(dir) && !fs::is_directory(dir))
     throw Error("--out " + o.out + ": exists and is not a folder");
   if (fs::is_directory(dir))
-    for (const auto& p : {log, summary}) io::check_writable(p, o.force);
+    for (const auto& p : {log, summary, png}) io::check_writable(p, o.force);
 
   // A simulator folder: its PCD sweeps, stamped by its times.txt.
   fs::path input(o.replay);
@@ -196,6 +198,11 @@ void run_follow_replay(const FollowOptions& o) {
   fs::create_directories(dir);
   io::write_file_atomic(log, loops::log_csv(rows), o.force);
   io::write_file_atomic(summary, j.dump(2) + "\n", o.force);
+  write_follow_replay_picture(
+      png, rows, cfg.gap_s,
+      fmt::format("follow --replay {}: target held in {:.1f} % of the scans since chosen",
+                  fs::path(o.replay).filename().string(), 100 * s.target_held_fraction()),
+      o.force);
   fmt::print(
       "follow replay: {} frames ({:.1f} s), {}; target id {} held in {:.1f} % of the frames since "
       "chosen ({} switches){}; following {} frames; stopped: {} idle, {} too close, {} too far, "

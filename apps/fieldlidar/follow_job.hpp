@@ -26,8 +26,8 @@ struct FollowOptions {
   std::string legs_config;  ///< 2D leg detector YAML ("" = the shipped legs_2d.yaml)
 };
 
-/// Runs the follow pipeline on the recording `o.replay` and writes follow_log.csv and
-/// summary.json into `o.out`; prints a short summary.
+/// Runs the follow pipeline on the recording `o.replay` and writes follow_log.csv, summary.json
+/// and follow.png into `o.out`; prints a short summary.
 void run_follow_replay(const FollowOptions& o);
 
 /// Runs the simulated closed loop and writes boundary.geojson, boundary.csv, follow_log.csv,

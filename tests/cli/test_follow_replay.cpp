@@ -77,10 +77,24 @@ TEST(CliFollowReplay, MovingRobotBagWithItsOdometry) {
   EXPECT_GE(m["frames_following"].get<int>(), 9);
   EXPECT_LE(m["target_switches"].get<int>(), 1);
   EXPECT_GT(m["mean_perception_ms"].get<double>(), 0.0);  // timed by the benchmarks, not here
-  // Never overwrites without --force.
+  // The picture: a PNG of the path, the target estimates and the states' timeline.
+  const auto png = dir / "follow.png";
+  ASSERT_TRUE(std::filesystem::exists(png));
+  std::ifstream png_in(png, std::ios::binary);
+  char signature[8] = {};
+  png_in.read(signature, 8);
+  EXPECT_EQ(std::string(signature + 1, 3), "PNG");
+  const auto png_bytes = std::filesystem::file_size(png);
+  EXPECT_GT(png_bytes, 20000u);
+  // Never overwrites without --force: a picture left alone blocks the run as well.
+  std::filesystem::remove(dir / "follow_log.csv");
+  std::filesystem::remove(dir / "summary.json");
   const auto again = test::run_cli("follow --replay " + test::data_file(bag).string() +
                                    " --odom /odom --out " + dir.string());
   EXPECT_NE(again.exit_code, 0);
+  EXPECT_NE(again.output.find("follow.png"), std::string::npos) << again.output;
+  EXPECT_EQ(std::filesystem::file_size(png), png_bytes);
+  EXPECT_FALSE(std::filesystem::exists(dir / "summary.json"));
   const auto wrong = test::run_cli("follow --replay " + test::data_file(bag).string() +
                                    " --odom /scan --out " + dir.string() + "/x");
   EXPECT_NE(wrong.exit_code, 0);
