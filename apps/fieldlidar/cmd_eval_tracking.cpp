@@ -25,6 +25,7 @@
 #include "fieldlidar/people/leg_training.hpp"
 #include "fieldlidar/people/person_loss.hpp"
 #include "support/legs_runner.hpp"
+#include "support/losses_picture.hpp"
 #include "support/tracking_truth.hpp"
 #include "support/warnings.hpp"
 
@@ -48,7 +49,8 @@ struct EvalTrackingOptions {
   bool json = false;
   bool losses = false;     ///< 2D: where each scored annotated person is lost
   std::string losses_csv;  ///< and one row per scored annotated person
-  bool force = false;      ///< replace an existing losses_csv
+  std::string losses_png;  ///< and a picture of them in the sensor frame
+  bool force = false;      ///< replace an existing losses_csv or losses_png
   LegsRunOptions legs;
 };
 
@@ -143,11 +145,12 @@ void run_eval_tracking(EvalTrackingOptions o) {
   // The tracker runs on every frame (its tracks carry over); only the range is scored.
   const std::size_t first = o.scans.size() == 2 ? o.scans[0] : 0;
   const std::size_t last = o.scans.size() == 2 ? o.scans[1] + 1 : truth.persons.size();
-  if (!o.losses_csv.empty()) o.losses = true;
+  if (!o.losses_csv.empty() || !o.losses_png.empty()) o.losses = true;
   if (o.losses && !o.detections.empty())
     throw Error("eval-tracking: --losses traces the legs pipeline: run without --detections");
   // Before the run: a file the user has is not replaced without --force.
   if (!o.losses_csv.empty()) io::check_writable(o.losses_csv, o.force, {fs::path(o.input)});
+  if (!o.losses_png.empty()) io::check_writable(o.losses_png, o.force, {fs::path(o.input)});
   std::vector<LossRow> losses;
   const PersonsPerFrame tracked =
       o.detections.empty() ? run_tracker(o, truth, first, last, o.losses ? &losses : nullptr)
@@ -155,6 +158,15 @@ void run_eval_tracking(EvalTrackingOptions o) {
   people::PersonLossCounts loss_counts{};
   for (const auto& r : losses) ++loss_counts[std::size_t(r.loss)];
   if (!o.losses_csv.empty()) write_losses_csv(o.losses_csv, losses, o.force);
+  if (!o.losses_png.empty()) {
+    std::vector<PlacedLoss> placed;
+    for (const auto& r : losses) placed.push_back({r.truth.position_m, r.loss});
+    write_losses_picture(
+        o.losses_png, placed, o.truth_wedge,
+        fmt::format("eval-tracking {}: where the {} scored annotated persons are lost",
+                    fs::path(o.input).filename().string(), losses.size()),
+        o.force);
+  }
   people::ClearMotScorer scorer(
       {.gate_m = o.gate_m, .count_track_side_switches = !o.paper_switches});
   std::size_t annotated = 0, tracked_all = 0, scans_with_truth = 0;
@@ -277,7 +289,10 @@ void add_eval_tracking_command(CLI::App& app) {
   cmd->add_option("--losses-csv", o->losses_csv,
                   "2D: also write one row per scored annotated person with its loss (implies "
                   "--losses); an existing file is replaced only with --force");
-  cmd->add_flag("--force", o->force, "Replace an existing --losses-csv file");
+  cmd->add_option("--losses-png", o->losses_png,
+                  "2D: also draw each scored annotated person in the sensor frame, coloured by its "
+                  "loss (implies --losses); an existing file is replaced only with --force");
+  cmd->add_flag("--force", o->force, "Replace an existing --losses-csv or --losses-png file");
   cmd->add_option("--config", o->legs.config,
                   "Leg detector YAML with its optional `tracker:` map (as for `fieldlidar legs`)");
   cmd->add_option("--sensor", o->legs.sensor, "Sensor preset for 3D input without metadata");

@@ -96,8 +96,9 @@ TEST(CliEvalTracking, LossesTellWhereTheAnnotatedPersonsAreLost) {
   FIELDLIDAR_REQUIRE_DATA(kBag);
   const auto dir = test::temp_dir("eval_tracking_losses");
   const auto bag = test::quoted(test::data_file(kBag));
-  const auto csv = dir / "losses.csv";
-  const auto j = eval_json(bag + " --losses-csv " + test::quoted(csv));
+  const auto csv = dir / "losses.csv", png = dir / "losses.png";
+  const auto j =
+      eval_json(bag + " --losses-csv " + test::quoted(csv) + " --losses-png " + test::quoted(png));
   ASSERT_FALSE(j.is_null());
   const auto& l = j["losses"];
   int sum = 0;
@@ -115,10 +116,19 @@ TEST(CliEvalTracking, LossesTellWhereTheAnnotatedPersonsAreLost) {
   EXPECT_EQ(line, "frame,truth_id,x_m,y_m,range_m,bearing_deg,loss");
   while (std::getline(in, line)) ++rows;
   EXPECT_EQ(rows, 133);
-  // The file is not replaced without --force, and that is said before the bag is run.
+  // The picture of them in the sensor frame.
+  ASSERT_TRUE(std::filesystem::exists(png));
+  const auto png_bytes = std::filesystem::file_size(png);
+  EXPECT_GT(png_bytes, 10000u);
+  // The files are not replaced without --force, and that is said before the bag is run.
   const auto again = test::run_cli("eval-tracking " + bag + " --losses-csv " + test::quoted(csv));
   EXPECT_EQ(again.exit_code, 1);
   EXPECT_NE(again.output.find("--force"), std::string::npos) << again.output;
+  const auto again_png =
+      test::run_cli("eval-tracking " + bag + " --losses-png " + test::quoted(png));
+  EXPECT_EQ(again_png.exit_code, 1);
+  EXPECT_NE(again_png.output.find("losses.png"), std::string::npos) << again_png.output;
+  EXPECT_EQ(std::filesystem::file_size(png), png_bytes);
 
   const auto kept = eval_json(bag + " --losses --compact-occupancy 0");
   ASSERT_FALSE(kept.is_null());
