@@ -73,7 +73,10 @@ def summary(rows):
         f"  driven / truth plan: mean {sum(ratios) / max(1, len(ratios)):.3f}, "
         f"{sum(x > 1.15 for x in ratios)} over 1.15, largest {max(ratios, default=0):.3f}",
         f"  {len(touched)} drives with the footprint on truth-impassable cells "
-        f"({sum(int(r['frames_on_impassable']) for r in touched)} frames), {len(deep)} of them "
+        f"({sum(int(r['frames_on_impassable']) for r in touched)} frames; "
+        f"{sum(reachable(r) for r in touched)} of the {len(reach)} reachable drives, "
+        f"{sum(int(r['frames_on_impassable']) for r in touched if reachable(r))} frames), "
+        f"{len(deep)} of them "
         f"0.10 m or more into such a cell: "
         + " ".join(f"{name(r)}:{r['frames_on_impassable']}/{float(r['max_impassable_depth_m']):.2f}"
                    f"@{r['first_touch_m']:.1f}" for r in touched),
