@@ -39,6 +39,10 @@ Perception perceive_2d(people::LegPipeline2D& legs, double stamp_s, const PointC
   return perception;
 }
 
+FollowState counted_state(bool target_chosen, FollowState controller) {
+  return target_chosen ? controller : FollowState::kIdle;
+}
+
 bool is_planar_scan(const PointCloud& cloud) {
   if (cloud.fields.ring) return cloud.ring_count() <= 1;
   return std::all_of(cloud.points.begin(), cloud.points.end(),
@@ -118,8 +122,7 @@ ReplayFrame FollowReplay::step(PointCloud cloud, double stamp_s,
       ++s.frames_lost_after_gaps;
     }
   }
-  // Before any target was chosen the controller says "lost" (no target): counted as idle.
-  const FollowState state = id ? f.output.control.state : FollowState::kIdle;
+  const FollowState state = counted_state(id.has_value(), f.output.control.state);
   ++s.frames_by_state[std::size_t(state)];
   if (state == FollowState::kFollowing) ++s.frames_following;
   if (last_state_ == FollowState::kFollowing && state != FollowState::kFollowing) ++s.stops;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "fieldlidar/follow/replay.hpp"
 #include "support/canvas.hpp"
 
 namespace fieldlidar::app {
@@ -26,9 +27,9 @@ Rgb replay_state_colour(follow::FollowState s) {
   return {0.6, 0.6, 0.6};
 }
 
-/// As the replay's summary counts it: before a target is chosen the controller's "lost" is idle.
+/// The state of a log row as the replay's summary counts it.
 follow::FollowState replay_state(const loops::LogRow& r) {
-  return r.target_id < 0 ? follow::FollowState::kIdle : r.state;
+  return follow::counted_state(r.target_id >= 0, r.state);
 }
 
 }  // namespace

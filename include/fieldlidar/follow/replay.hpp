@@ -38,6 +38,10 @@ void ensure_rings(PointCloud& cloud, const SensorModel& sensor);
 Perception perceive_2d(people::LegPipeline2D& legs, double stamp_s, const PointCloud& scan,
                        const Pose2& sensor_pose, bool pose_known);
 
+/// The follow state a replay counts for a frame: before any target was chosen the controller's
+/// "lost" (no target) is idle.
+FollowState counted_state(bool target_chosen, FollowState controller);
+
 struct ReplayConfig {
   FollowConfig follow;
   /// Persons in 2D scans (the caller sets the detector and its classifier).
