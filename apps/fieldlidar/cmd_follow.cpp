@@ -275,7 +275,7 @@ void add_follow_command(CLI::App& app) {
                   "at 48 deg latitude)");
   cmd->add_option("--pose-source", o->pose_source,
                   "The mower's pose: odometry (LiDAR + IMU + wheels; with --sensor laser2d wheels "
-                  "and gyro) or truth (the simulator's)")
+                  "and IMU) or truth (the simulator's)")
       ->capture_default_str();
   cmd->add_option("--replay", o->replay,
                   "A ROS1 bag (or a simulate folder) to replay instead of simulating: perception, "

@@ -132,7 +132,7 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
     PointCloud cloud;
     LogRow row;
     if (dead_reckoning) {
-      // The wheels and gyro give a level frame: the first lidar pose's position and heading.
+      // The wheels and IMU give a level frame: the first lidar pose's position and heading.
       if (k == 0) {
         const Eigen::Vector3d o = T0.translation();
         T_frame_world = make_pose(o.x(), o.y(), o.z(), 0, 0, yaw_of(T0)).inverse();

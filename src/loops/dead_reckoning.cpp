@@ -1,12 +1,41 @@
-// Wheel odometry with a gyro as the closed loop's pose source (pose_source.hpp): the simulated
-// wheel and IMU streams of each control period integrated.
+// Wheel odometry with an IMU as the closed loop's pose source (pose_source.hpp): the simulated
+// wheel and IMU streams of each control period integrated, the attitude from the gyro's three
+// axes.
 
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "fieldlidar/loops/pose_source.hpp"
 
 namespace fieldlidar::loops {
+
+namespace {
+
+/// The attitude with the roll and pitch that make `specific_force` (the accelerometer's mean at
+/// rest, gravity alone, base frame) point up, and the yaw of `attitude`.
+Eigen::Matrix3d levelled(const Eigen::Matrix3d& attitude, const Eigen::Vector3d& specific_force) {
+  const double yaw = std::atan2(attitude(1, 0), attitude(0, 0));
+  const double roll = std::atan2(specific_force.y(), specific_force.z());
+  const double pitch =
+      std::atan2(-specific_force.x(), std::hypot(specific_force.y(), specific_force.z()));
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+/// `attitude` turned by the body rate `rate_rad_s` held for `dt_s`.
+Eigen::Matrix3d turned(const Eigen::Matrix3d& attitude, const Eigen::Vector3d& rate_rad_s,
+                       double dt_s) {
+  const Eigen::Vector3d angle = rate_rad_s * dt_s;
+  const double a = angle.norm();
+  if (!(a > 0)) return attitude;
+  return attitude * Eigen::AngleAxisd(a, angle / a).toRotationMatrix();
+}
+
+}  // namespace
 
 DeadReckoningPoseSource::DeadReckoningPoseSource(const MotionStreamsConfig& streams)
     : streams_(streams) {}
@@ -14,37 +43,49 @@ DeadReckoningPoseSource::DeadReckoningPoseSource(const MotionStreamsConfig& stre
 follow::Pose2 DeadReckoningPoseSource::advance(const std::function<Pose(double)>& T_world_base,
                                                double t0_s, double t1_s) {
   const auto period = streams_.next(T_world_base, t0_s, t1_s);
-  const auto& gyro = period.imu;
+  const auto& imu_samples = period.imu;
   const auto& wheel = period.wheels;
   const auto& wheels = streams_.config().wheels;
   const auto& imu = streams_.config().imu;
   // A period the wheels stand still in (speeds within 4 sigma of their noise) teaches the
-  // gyro's bias: it reads the bias alone.
+  // gyro's bias (it reads the bias alone) and levels the attitude (the accelerometer reads
+  // gravity alone). The first period levels it whatever the wheels do.
   const double still_m_s = 4 * wheels.noise_m_s;
   const bool still = std::all_of(wheel.begin(), wheel.end(), [&](const auto& w) {
     return std::abs(w.left_m_s) <= still_m_s && std::abs(w.right_m_s) <= still_m_s;
   });
+  if ((still || !levelled_) && !imu_samples.empty()) {
+    Eigen::Vector3d force = Eigen::Vector3d::Zero();
+    for (const auto& s : imu_samples) force += s.accel_m_s2;
+    if (force.norm() > 0) {
+      attitude_ = levelled(attitude_, force);
+      levelled_ = true;
+    }
+  }
   if (still)
-    for (const auto& s : gyro) {
-      still_gyro_sum_ += s.gyro_rad_s.z();
+    for (const auto& s : imu_samples) {
+      still_gyro_sum_ += s.gyro_rad_s;
       ++still_samples_;
     }
-  const double bias = still_samples_ ? still_gyro_sum_ / double(still_samples_) : 0.0;
-  auto rate = [&](std::size_t g) { return gyro[g].gyro_rad_s.z() - bias; };
-  // Forward speed from the wheels, yaw rate from the gyro, each held over its sample period.
+  const Eigen::Vector3d bias = still_samples_
+                                   ? Eigen::Vector3d(still_gyro_sum_ / double(still_samples_))
+                                   : Eigen::Vector3d::Zero();
+  // Forward speed from the wheels along the base's x axis, the attitude from the gyro, each
+  // held over its sample period.
   const double dt_wheel = 1.0 / wheels.rate_hz, dt_gyro = 1.0 / imu.rate_hz;
   std::size_t g = 0;
-  double yaw = pose_.yaw_rad;
   for (const auto& w : wheel) {
     const double until = w.stamp_s + dt_wheel;
-    for (; g < gyro.size() && gyro[g].stamp_s < until; ++g) yaw += rate(g) * dt_gyro;
-    const double mid = 0.5 * (pose_.yaw_rad + yaw);
-    pose_.x_m += w.linear_m_s * dt_wheel * std::cos(mid);
-    pose_.y_m += w.linear_m_s * dt_wheel * std::sin(mid);
-    pose_.yaw_rad = yaw;
+    const Eigen::Vector3d forward_before = attitude_.col(0);
+    for (; g < imu_samples.size() && imu_samples[g].stamp_s < until; ++g)
+      attitude_ = turned(attitude_, imu_samples[g].gyro_rad_s - bias, dt_gyro);
+    const Eigen::Vector3d forward = 0.5 * (forward_before + attitude_.col(0));
+    pose_.x_m += w.linear_m_s * dt_wheel * forward.x();
+    pose_.y_m += w.linear_m_s * dt_wheel * forward.y();
   }
-  for (; g < gyro.size(); ++g) yaw += rate(g) * dt_gyro;
-  pose_.yaw_rad = std::remainder(yaw, 2 * M_PI);
+  for (; g < imu_samples.size(); ++g)
+    attitude_ = turned(attitude_, imu_samples[g].gyro_rad_s - bias, dt_gyro);
+  pose_.yaw_rad = std::atan2(attitude_(1, 0), attitude_(0, 0));
   return pose_;
 }
 

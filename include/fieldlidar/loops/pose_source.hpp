@@ -85,12 +85,18 @@ class OdometryPoseSource {
   SimulatedStreams streams_;
 };
 
-/// Wheel odometry with a gyro as the pose source of a mower that has no multi-beam LiDAR (a 2D
-/// laser at leg height sees too little of an open lawn to match scans): per period the wheels'
-/// forward speed and the gyro's yaw rate (the simulated streams: slip, noise, a constant gyro
-/// bias drawn once) integrated from the start pose, the origin of the odometry frame. The gyro's
-/// bias is the mean of its readings while the wheels stand still (the mower waits for its
-/// operator before it drives), subtracted from then on.
+/// Wheel odometry with an IMU as the pose source of a mower that has no multi-beam LiDAR (a 2D
+/// laser at leg height sees too little of an open lawn to match scans): per period the base's
+/// attitude integrated from the gyro's three axes, and the wheels' forward speed carried along
+/// the base's x axis (the simulated streams: slip, noise, a constant gyro bias drawn once), from
+/// the start pose, the origin of the odometry frame. The gyro's bias is the mean of its readings
+/// while the wheels stand still (the mower waits for its operator before it drives), subtracted
+/// from then on; while they stand, the accelerometer's mean (gravity alone) levels the attitude
+/// (roll and pitch; yaw kept). On bumpy ground the base pitches and rolls: the gyro's z axis is
+/// then no longer the vertical, and its pitch rate times the roll turns into a false yaw rate
+/// that a planar integration (yaw from the z axis alone) accumulates. Measured, 2D follow loop
+/// on the rough lawn (6 cm bumps, scene seed 0): odometry ATE 0.470 -> 0.037 m; on the level lawn
+/// unchanged.
 class DeadReckoningPoseSource {
  public:
   explicit DeadReckoningPoseSource(const MotionStreamsConfig& streams);
@@ -101,9 +107,12 @@ class DeadReckoningPoseSource {
 
  private:
   SimulatedStreams streams_;
-  double still_gyro_sum_ = 0;  ///< gyro readings while standing still, summed
+  Eigen::Vector3d still_gyro_sum_ = Eigen::Vector3d::Zero();  ///< gyro readings while still
   std::size_t still_samples_ = 0;
   follow::Pose2 pose_;
+  /// The base's attitude in the odometry frame (yaw = pose_.yaw_rad), levelled while still.
+  Eigen::Matrix3d attitude_ = Eigen::Matrix3d::Identity();
+  bool levelled_ = false;  ///< the accelerometer has levelled the attitude once
 };
 
 /// The planar pose (x, y, yaw) of a 3D pose.
