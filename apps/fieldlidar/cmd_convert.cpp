@@ -1,8 +1,6 @@
 // fieldlidar convert IN OUT: convert a cloud file to another format, or a capture, bag, folder or
 // glob into a folder of one file per frame.
 
-#include <unistd.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -15,6 +13,7 @@
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
+#include "support/progress_line.hpp"
 #include "support/warnings.hpp"
 
 namespace fieldlidar::app {
@@ -33,10 +32,10 @@ struct ConvertOptions {
   bool quiet = false;
 };
 
-/// A one-line progress bar on stderr, drawn only when stderr is a terminal.
+/// A one-line progress bar on stderr, drawn only when stderr is a terminal (progress_line.hpp).
 class ProgressBar {
  public:
-  explicit ProgressBar(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO)) {}
+  explicit ProgressBar(bool enabled) : enabled_(enabled && stderr_is_terminal()) {}
   void update(double fraction, std::size_t frames) {
     if (!enabled_) return;
     const int width = 40;

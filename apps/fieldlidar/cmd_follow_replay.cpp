@@ -22,6 +22,7 @@
 #include "support/follow_replay_picture.hpp"
 #include "support/legs_runner.hpp"
 #include "support/option_checks.hpp"
+#include "support/progress_line.hpp"
 #include "support/warnings.hpp"
 
 namespace fieldlidar::app {
@@ -135,6 +136,7 @@ void run_follow_replay(const FollowOptions& o) {
   std::vector<loops::LogRow> rows;
   std::string topic;
   std::optional<double> max_time_end;
+  ProgressLine progress;
   while (auto frame = source->next()) {
     if (!replay) {
       if (follow::is_planar_scan(frame->cloud)) cfg.legs_2d = legs.config_2d();
@@ -150,9 +152,9 @@ void run_follow_replay(const FollowOptions& o) {
     std::optional<Pose> pose;
     if (motion) pose = pose_at(*motion, frame->stamp_s);
     rows.push_back(log_row(replay->step(frame->cloud, frame->stamp_s, pose)));
-    fmt::print(stderr, "\rframe {} ({:.0f} %)   ", frame->index, 100 * source->progress());
+    progress.show("frame {} ({:.0f} %)   ", frame->index, 100 * source->progress());
   }
-  fmt::print(stderr, "\n");
+  progress.end();
   if (!replay) throw Error(o.replay + ": no frame on the scan topic");
   for (const auto& w : source->warnings()) warn(w);
 

@@ -24,6 +24,7 @@
 #include "fieldlidar/io/trajectory_io.hpp"
 #include "fieldlidar/odometry/lidar_odometry.hpp"
 #include "support/canvas.hpp"
+#include "support/progress_line.hpp"
 #include "support/sensor_choice.hpp"
 #include "support/warnings.hpp"
 
@@ -212,6 +213,7 @@ void run_odometry(const OdometryOptions& o) {
   DegenerateStretch stretch;
   double last_stamp = -1e300;
   const auto t_start = std::chrono::steady_clock::now();
+  ProgressLine progress;
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
     if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
@@ -236,7 +238,7 @@ void run_odometry(const OdometryOptions& o) {
     if (times.empty() && cloud.stamp_s <= 0 && frame->index > 0)
       cloud.stamp_s = frame->index * cfg.expected_period_s;
     const auto r = odo->register_frame(cloud);
-    if (!r.warnings.empty()) fmt::print(stderr, "\r");  // over the progress line
+    if (!r.warnings.empty()) progress.interrupt();  // over the progress line
     for (const auto& w : r.warnings) warn(fmt::format("frame {}: {}", frame->index, w));
     warnings += r.warnings.size();
     degenerate += r.degenerate;
@@ -253,11 +255,11 @@ void run_odometry(const OdometryOptions& o) {
       memory.push_back({{"frames", poses.size()},
                         {"rss_mb", proc_status_mb("VmRSS")},
                         {"map_points", odo->map().size()}});
-    fmt::print(stderr, "\rframe {} ({:.0f} %): {:.1f} ms, {} matches   ", frame->index,
-               100 * source->progress(), r.timings.total_ms, r.inliers);
+    progress.show("frame {} ({:.0f} %): {:.1f} ms, {} matches   ", frame->index,
+                  100 * source->progress(), r.timings.total_ms, r.inliers);
   }
   stretch.flush();
-  fmt::print(stderr, "\n");
+  progress.end();
   if (!odo) throw Error(o.input + ": no frame");
 
   const io::WriteOptions wo{.overwrite = o.force};

@@ -30,6 +30,7 @@
 #include "fieldlidar/terrain/terrain_map.hpp"
 #include "fieldlidar/terrain/traversability.hpp"
 #include "support/option_checks.hpp"
+#include "support/progress_line.hpp"
 #include "support/sensor_choice.hpp"
 #include "support/terrain_picture.hpp"
 #include "support/warnings.hpp"
@@ -130,6 +131,7 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
     r.update_ms +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   };
+  ProgressLine progress;
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
     drop_nearer_than(cloud, o.min_range_m);
@@ -171,10 +173,10 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
     last_stamp = stamp;
     r.path.push_back(stamp, *T);
     if (frame->index % 20 == 0)
-      fmt::print(stderr, "\rframe {} ({:.0f} %)   ", frame->index, 100 * source->progress());
+      progress.show("frame {} ({:.0f} %)   ", frame->index, 100 * source->progress());
   }
   if (pending) fuse(*pending, std::nullopt, 0.0);  // the last sweep, its motion unknown
-  fmt::print(stderr, "\n");
+  progress.end();
   if (r.frames == 0)
     throw Error(o.input + ": no frame could be placed" +
                 (o.poses.empty() ? std::string() : " by --poses " + o.poses));

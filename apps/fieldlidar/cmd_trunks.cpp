@@ -22,6 +22,7 @@
 #include "fieldlidar/odometry/lidar_odometry.hpp"
 #include "fieldlidar/segmentation/ground.hpp"
 #include "support/option_checks.hpp"
+#include "support/progress_line.hpp"
 #include "support/sensor_choice.hpp"
 #include "support/trunks_output.hpp"
 #include "support/trunks_truth.hpp"
@@ -73,6 +74,7 @@ void run_sequence(const TrunksOptions& o) {
   std::vector<Eigen::Vector3d> path;
   Pose odo_prev = Pose::Identity();
   std::size_t tracked = 0;
+  ProgressLine progress;
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
     if (!cloud.fields.ring)
@@ -104,10 +106,10 @@ void run_sequence(const TrunksOptions& o) {
                              : poses.poses().back().stamp_s + 1e-6;
     poses.push_back(stamp, r.T_world_lidar);
     path.push_back(r.T_world_lidar.translation());
-    fmt::print(stderr, "\rframe {} ({:.0f} %): {} trees, {} matched   ", frame->index,
-               100 * source->progress(), r.trees, r.matched);
+    progress.show("frame {} ({:.0f} %): {} trees, {} matched   ", frame->index,
+                  100 * source->progress(), r.trees, r.matched);
   }
-  fmt::print(stderr, "\n");
+  progress.end();
   if (!tracker) throw Error(o.input + ": no frame");
   const auto trees = tracker->map_trees();
   const io::WriteOptions wo{.overwrite = o.force};

@@ -112,6 +112,8 @@ TEST(CliFollowReplay, StandingRobotWithPeopleAndWithNone) {
   auto r = test::run_cli("follow --replay " + test::data_file(positive).string() + " --out " +
                          (dir / "pos").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Its output is no terminal: no progress line of carriage returns (support/progress_line.hpp).
+  EXPECT_EQ(r.output.find('\r'), std::string::npos);
   auto s = summary_of(dir / "pos");
   EXPECT_EQ(s["motion"], "standing still");
   // Measured (joint person tracker, ego-motion by scan matching): target chosen after 15 of 175
