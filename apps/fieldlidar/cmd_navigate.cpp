@@ -196,7 +196,8 @@ void add_navigate_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "navigate",
       "Simulated off-road robot driving itself to a goal: VLP-16 scans -> fused traversability "
-      "map (true poses) -> Hybrid A* -> pure pursuit, re-planning as the map grows");
+      "map (true poses, or its own LiDAR odometry with --pose-source odometry) -> Hybrid A* -> "
+      "pure pursuit, re-planning as the map grows");
   cmd->add_option("--scene", o->scene, "Simulated scene (terrain, 60 x 40 m)")
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "Scene seed")
