@@ -51,6 +51,12 @@ double yaw_of(const Pose& pose) {
   return std::atan2(x.y(), x.x());
 }
 
+Eigen::Matrix3d exp_so3(const Eigen::Vector3d& w) {
+  const double a = w.norm();
+  if (a < 1e-12) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
+}
+
 Pose make_pose(double x, double y, double z, double roll_rad, double pitch_rad, double yaw_rad) {
   Pose p = Pose::Identity();
   p.linear() = (Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()) *

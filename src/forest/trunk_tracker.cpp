@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "fieldlidar/core/pose.hpp"
 #include "fieldlidar/forest/tracking.hpp"
 
 namespace fieldlidar::forest {
@@ -105,9 +106,7 @@ TrackResult TrunkTracker::track(const PointCloud& cloud, std::span<const std::ui
     const Eigen::AngleAxisd r_new(last_motion_.linear()), r_old(smooth_motion_.linear());
     const Eigen::Vector3d w =
         a * r_new.angle() * r_new.axis() + (1 - a) * r_old.angle() * r_old.axis();
-    smooth_motion_.linear() = w.norm() > 1e-12
-                                  ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
-                                  : Eigen::Matrix3d::Identity();
+    smooth_motion_.linear() = exp_so3(w);
     smooth_motion_.translation() =
         a * last_motion_.translation() + (1 - a) * smooth_motion_.translation();
   }

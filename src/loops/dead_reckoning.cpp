@@ -5,34 +5,19 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Geometry>
-
 #include "fieldlidar/loops/pose_source.hpp"
 
 namespace fieldlidar::loops {
 
 namespace {
 
-/// The attitude with the roll and pitch that make `specific_force` (the accelerometer's mean at
-/// rest, gravity alone, base frame) point up, and the yaw of `attitude`.
-Eigen::Matrix3d levelled(const Eigen::Matrix3d& attitude, const Eigen::Vector3d& specific_force) {
-  const double yaw = std::atan2(attitude(1, 0), attitude(0, 0));
+/// `attitude` with the roll and pitch that make `specific_force` (the accelerometer's mean at
+/// rest, gravity alone, base frame) point up, its yaw kept.
+Pose levelled(const Pose& attitude, const Eigen::Vector3d& specific_force) {
   const double roll = std::atan2(specific_force.y(), specific_force.z());
   const double pitch =
       std::atan2(-specific_force.x(), std::hypot(specific_force.y(), specific_force.z()));
-  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
-/// `attitude` turned by the body rate `rate_rad_s` held for `dt_s`.
-Eigen::Matrix3d turned(const Eigen::Matrix3d& attitude, const Eigen::Vector3d& rate_rad_s,
-                       double dt_s) {
-  const Eigen::Vector3d angle = rate_rad_s * dt_s;
-  const double a = angle.norm();
-  if (!(a > 0)) return attitude;
-  return attitude * Eigen::AngleAxisd(a, angle / a).toRotationMatrix();
+  return make_pose(0, 0, 0, roll, pitch, yaw_of(attitude));
 }
 
 }  // namespace
@@ -76,16 +61,17 @@ follow::Pose2 DeadReckoningPoseSource::advance(const std::function<Pose(double)>
   std::size_t g = 0;
   for (const auto& w : wheel) {
     const double until = w.stamp_s + dt_wheel;
-    const Eigen::Vector3d forward_before = attitude_.col(0);
+    const Eigen::Vector3d forward_before = attitude_.linear().col(0);
     for (; g < imu_samples.size() && imu_samples[g].stamp_s < until; ++g)
-      attitude_ = turned(attitude_, imu_samples[g].gyro_rad_s - bias, dt_gyro);
-    const Eigen::Vector3d forward = 0.5 * (forward_before + attitude_.col(0));
+      attitude_.linear() =
+          attitude_.linear() * exp_so3((imu_samples[g].gyro_rad_s - bias) * dt_gyro);
+    const Eigen::Vector3d forward = 0.5 * (forward_before + attitude_.linear().col(0));
     pose_.x_m += w.linear_m_s * dt_wheel * forward.x();
     pose_.y_m += w.linear_m_s * dt_wheel * forward.y();
   }
   for (; g < imu_samples.size(); ++g)
-    attitude_ = turned(attitude_, imu_samples[g].gyro_rad_s - bias, dt_gyro);
-  pose_.yaw_rad = std::atan2(attitude_(1, 0), attitude_(0, 0));
+    attitude_.linear() = attitude_.linear() * exp_so3((imu_samples[g].gyro_rad_s - bias) * dt_gyro);
+  pose_.yaw_rad = yaw_of(attitude_);
   return pose_;
 }
 

@@ -4,17 +4,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fieldlidar/core/pose.hpp"
 #include "fieldlidar/odometry/deskew.hpp"
 
 namespace fieldlidar::odometry {
 
 namespace {
-
-Eigen::Matrix3d exp_so3(const Eigen::Vector3d& w) {
-  const double a = w.norm();
-  if (a < 1e-12) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
-}
 
 /// True when the samples cover [t0, t1] with no gap wider than max_gap_s.
 template <class S>

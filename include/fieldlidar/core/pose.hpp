@@ -50,6 +50,10 @@ Pose interpolate(const Pose& a, const Pose& b, double t);
 /// Yaw (rad) of a pose's x axis in the x-y plane.
 double yaw_of(const Pose& pose);
 
+/// The rotation by the rotation vector `w` (axis times angle, rad): SO(3)'s exponential map;
+/// identity for a vector shorter than 1e-12.
+Eigen::Matrix3d exp_so3(const Eigen::Vector3d& w);
+
 /// Pose from x, y, z (m) and roll, pitch, yaw (rad; applied as Rz(yaw) * Ry(pitch) * Rx(roll)).
 Pose make_pose(double x, double y, double z, double roll_rad, double pitch_rad, double yaw_rad);
 

@@ -95,7 +95,7 @@ class OdometryPoseSource {
 /// (roll and pitch; yaw kept). On bumpy ground the base pitches and rolls: the gyro's z axis is
 /// then no longer the vertical, and its pitch rate times the roll turns into a false yaw rate
 /// that a planar integration (yaw from the z axis alone) accumulates. Measured, 2D follow loop
-/// on the rough lawn (6 cm bumps, scene seed 0): odometry ATE 0.470 -> 0.037 m; on the level lawn
+/// on the rough lawn (6 cm bumps, scene seed 0): odometry ATE 0.470 -> 0.036 m; on the level lawn
 /// unchanged.
 class DeadReckoningPoseSource {
  public:
@@ -110,8 +110,9 @@ class DeadReckoningPoseSource {
   Eigen::Vector3d still_gyro_sum_ = Eigen::Vector3d::Zero();  ///< gyro readings while still
   std::size_t still_samples_ = 0;
   follow::Pose2 pose_;
-  /// The base's attitude in the odometry frame (yaw = pose_.yaw_rad), levelled while still.
-  Eigen::Matrix3d attitude_ = Eigen::Matrix3d::Identity();
+  /// The base's attitude in the odometry frame (rotation only; yaw = pose_.yaw_rad), levelled
+  /// while still.
+  Pose attitude_ = Pose::Identity();
   bool levelled_ = false;  ///< the accelerometer has levelled the attitude once
 };
 
