@@ -125,10 +125,18 @@ void BM_Legs2D_RealScan(benchmark::State& state) {
 }
 BENCHMARK(BM_Legs2D_RealScan)->Unit(benchmark::kMicrosecond);
 
-/// LegPipeline2D per scan (shipped classifier, scan-matched ego-motion, leg tracks, joint person
-/// tracks and occupancy grid) on the moving robot's scans of negative_2.bag (/right_scan) or of
-/// the people-tracking benchmark bag (/scan), and the scan matching alone.
-void pipeline_2d(benchmark::State& state, bool matching_only,
+/// What pipeline_2d times per scan.
+enum class Pipeline2DPart {
+  kWithMatching,  ///< the whole pipeline, its ego-motion from its own scan matching
+  kGivenPoses,    ///< the whole pipeline, the poses given (as by wheel odometry)
+  kMatchingOnly,  ///< the scan matching alone
+};
+
+/// LegPipeline2D per scan (shipped classifier, ego-motion, leg tracks, joint person tracks and
+/// occupancy grids) on the moving robot's scans of negative_2.bag (/right_scan) or of the
+/// people-tracking benchmark bag (/scan). With given poses, they are the scan matching's, computed
+/// before the timing starts: the pipeline then does what it does beside a robot's odometry.
+void pipeline_2d(benchmark::State& state, Pipeline2DPart part,
                  const char* relative_bag = "legs_2d/negative_2.bag",
                  const char* topic = "/right_scan") {
   const auto bag = std::filesystem::path(FIELDLIDAR_DEFAULT_DATA_DIR) / relative_bag;
@@ -147,48 +155,72 @@ void pipeline_2d(benchmark::State& state, bool matching_only,
   people::LegPipeline2DConfig cfg;
   cfg.detector.classifier = std::make_shared<const people::LegClassifier>(
       people::leg_classifier_from_yaml(text.str(), model.string()));
+  std::vector<Eigen::Isometry2d> poses;
+  if (part == Pipeline2DPart::kGivenPoses) {
+    people::ScanOdometry2D matched;
+    for (const auto& s : scans) poses.push_back(matched.add(s));
+  }
   std::optional<people::LegPipeline2D> pipeline;
   people::ScanOdometry2D odometry;
   std::size_t k = 0, iterations = 0;
   for (auto _ : state) {
-    if (k % scans.size() == 0) {  // restart at the end of the bag: stamps must not decrease
+    const std::size_t i = k % scans.size();
+    if (i == 0) {  // restart at the end of the bag: stamps must not decrease
       pipeline.emplace(cfg);
       odometry = people::ScanOdometry2D();
     }
-    const auto& s = scans[k % scans.size()];
-    if (matching_only) {
-      benchmark::DoNotOptimize(odometry.add(s));
-      iterations += std::size_t(odometry.last_match().iterations);
-    } else
-      benchmark::DoNotOptimize(pipeline->process(0.1 * double(k % scans.size()), s));
+    const auto& s = scans[i];
+    switch (part) {
+      case Pipeline2DPart::kMatchingOnly:
+        benchmark::DoNotOptimize(odometry.add(s));
+        iterations += std::size_t(odometry.last_match().iterations);
+        break;
+      case Pipeline2DPart::kGivenPoses:
+        benchmark::DoNotOptimize(pipeline->process(0.1 * double(i), s, poses[i]));
+        break;
+      case Pipeline2DPart::kWithMatching:
+        benchmark::DoNotOptimize(pipeline->process(0.1 * double(i), s));
+        break;
+    }
     ++k;
   }
   state.counters["points/scan"] = double(scans.front().size());
-  if (matching_only) state.counters["icp_iterations"] = double(iterations) / double(k);
+  if (part == Pipeline2DPart::kMatchingOnly)
+    state.counters["icp_iterations"] = double(iterations) / double(k);
 }
+constexpr const char* kTrackingBag = "legs_2d_tracking/general_tracking_moving_1.bag";
 void BM_LegPipeline2D_RealScan(benchmark::State& s) {
-  pipeline_2d(s, false);
+  pipeline_2d(s, Pipeline2DPart::kWithMatching);
+}
+void BM_LegPipeline2D_RealScanGivenPoses(benchmark::State& s) {
+  pipeline_2d(s, Pipeline2DPart::kGivenPoses);
 }
 void BM_ScanMatching2D_RealScan(benchmark::State& s) {
-  pipeline_2d(s, true);
+  pipeline_2d(s, Pipeline2DPart::kMatchingOnly);
 }
 void BM_LegPipeline2D_TrackingBag(benchmark::State& s) {
-  pipeline_2d(s, false, "legs_2d_tracking/general_tracking_moving_1.bag", "/scan");
+  pipeline_2d(s, Pipeline2DPart::kWithMatching, kTrackingBag, "/scan");
+}
+void BM_LegPipeline2D_TrackingBagGivenPoses(benchmark::State& s) {
+  pipeline_2d(s, Pipeline2DPart::kGivenPoses, kTrackingBag, "/scan");
 }
 void BM_LegPipeline2D_LeftScan(benchmark::State& s) {
-  pipeline_2d(s, false, "legs_2d/negative_2.bag", "/left_scan");
+  pipeline_2d(s, Pipeline2DPart::kWithMatching, "legs_2d/negative_2.bag", "/left_scan");
 }
 void BM_LegPipeline2D_RearScan(benchmark::State& s) {
-  pipeline_2d(s, false, "legs_2d/negative_2.bag", "/rear_scan");
+  pipeline_2d(s, Pipeline2DPart::kWithMatching, "legs_2d/negative_2.bag", "/rear_scan");
 }
 void BM_LegPipeline2D_PositiveBag(benchmark::State& s) {
-  pipeline_2d(s, false, "legs_2d/positive_4_extracted.bag", "/training_scan");
+  pipeline_2d(s, Pipeline2DPart::kWithMatching, "legs_2d/positive_4_extracted.bag",
+              "/training_scan");
 }
 BENCHMARK(BM_LegPipeline2D_RealScan)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LegPipeline2D_RealScanGivenPoses)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_LegPipeline2D_LeftScan)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_LegPipeline2D_RearScan)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_LegPipeline2D_PositiveBag)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_LegPipeline2D_TrackingBag)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LegPipeline2D_TrackingBagGivenPoses)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ScanMatching2D_RealScan)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
