@@ -26,7 +26,7 @@ std::size_t Loop::approach() {
     const double t = -double(k + 1) * step / speed;
     const Pose T = poses_->lidar_pose(poses[k]);
     const sim::SimFrame frame = lidar_.scan(t, T);
-    map_.add_scan(frame.cloud, sensor_, T);
+    map_sweep(frame.cloud, T);
     approach_sensors_.push_back(T.translation());
   }
   r_.approach_sweeps = poses.size();

@@ -91,8 +91,9 @@ void mark_drop_bands(const GridGeometry& area, std::span<const float> elevation,
       const std::size_t i = area.linear_index(ix, iy);
       if (marks[i] == kDropBandMark || !f.unseen(i)) continue;
       const double d = f.range(ix, iy);
-      if (d > rules.drop_radius_m || d < rules.blind_radius_m) continue;
+      if (d > rules.drop_radius_m || d < 1e-9) continue;
       const Eigen::Vector2d ray = (area.cell_center(ix, iy) - rules.sensor_xy_m) / d;
+      if (d < blind_range_m(rules, ray)) continue;
       for (const auto& line : kDropLines)
         if (std::abs(ray.dot(Eigen::Vector2d(line[0], line[1]).normalized())) >= min_cos &&
             f.drop_on_line(ix, iy, line)) {

@@ -36,6 +36,9 @@ class Loop {
  private:
   void score_truth_plan();
   void scan();
+  /// Fuses a sweep taken at `T` (the sensor's pose, the mount's pitch included) into the map, in
+  /// the frame of a level mount at the sensor.
+  void map_sweep(const PointCloud& sweep, const Pose& T);
   /// The approach's sweeps (NavigateConfig::approach_m) fused into the map before the first sweep
   /// at the start; returns how many.
   std::size_t approach();

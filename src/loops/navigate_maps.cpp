@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "fieldlidar/planning/planning_map.hpp"
 
@@ -22,6 +23,17 @@ Grid2D truth_planning_grid(const Grid2D& truth, const terrain::TraversabilityCon
       tau[i] = float(
           std::clamp(1.0 - layers.weight_slope * slope[i] / layers.robot.max_slope_deg, 0.01, 1.0));
   return out;
+}
+
+double blind_range_m(const AreaGridRules& rules, const Eigen::Vector2d& u) {
+  if (!(rules.blind_radius_m > 0) || !(rules.sensor_height_m > 0)) return 0.0;
+  // The lowest beam's angle below the robot's ground plane in direction u: the level mount's,
+  // plus how far the sensor's z axis leans towards u from the plane's normal.
+  const auto lean = [&](const Eigen::Vector3d& a) { return std::atan2(a.head<2>().dot(u), a.z()); };
+  const double down = std::atan2(rules.sensor_height_m, rules.blind_radius_m) +
+                      lean(rules.sensor_up) - lean(rules.ground_normal);
+  if (!(down > 1e-3)) return std::numeric_limits<double>::infinity();
+  return rules.sensor_height_m / std::tan(down);
 }
 
 Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
@@ -49,6 +61,11 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
   const auto off_goal = [&](int ix, int iy) {
     return (area.cell_center(ix, iy) - rules.goal_xy_m).norm() > rules.goal_clear_m;
   };
+  const auto in_blind_range = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d v = p - rules.sensor_xy_m;
+    const double d = v.norm();
+    return d < 1e-9 || d < blind_range_m(rules, v / d);
+  };
   for (int iy = 0; iy < area.height; ++iy)
     for (int ix = 0; ix < area.width; ++ix) {
       const auto c = g.cell_of(area.cell_center(ix, iy));
@@ -60,8 +77,7 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
       elevation[i] = gelev[j];
       if (rules.negative_impassable && gneg[j] > 0.5f && off_goal(ix, iy)) imp[i] = 1.f;
       if (!std::isfinite(elevation[i]) && !std::isfinite(tau[i]) &&
-          pts[i] >= float(rules.blind_points) &&
-          (area.cell_center(ix, iy) - rules.sensor_xy_m).norm() < rules.blind_radius_m)
+          pts[i] >= float(rules.blind_points) && in_blind_range(area.cell_center(ix, iy)))
         imp[i] = 1.f;
     }
   drop_marks.resize(area.cell_count(), 0);

@@ -48,7 +48,7 @@ void Loop::scan() {
   const auto t0 = Clock::now();
   const sim::SimFrame frame = lidar_.scan(t_, poses_->lidar_pose(pose_));
   const Pose placed = poses_->place_sweep(frame.cloud, t_, pose_);
-  map_.add_scan(frame.cloud, sensor_, placed);
+  map_sweep(frame.cloud, placed);
   grid_ = area_grid(map_, area_,
                     area_grid_rules(cfg_, placed, {me().x_m, me().y_m}, mast_m_, blind_radius_m_,
                                     {goal_.x_m, goal_.y_m}, approach_sensors_),
@@ -57,6 +57,25 @@ void Loop::scan() {
   map_updated_ = true;
   ++r_.scans;
   scan_ms_ += ms_since(t0);
+}
+
+void Loop::map_sweep(const PointCloud& sweep, const Pose& T) {
+  if (cfg_.lidar_pitch_deg == 0.0) {
+    map_.add_scan(sweep, sensor_, T);
+    return;
+  }
+  // The mount's pitch is a known extrinsic: levelled by it, the sweep meets the ground
+  // segmentation as a level sensor's does.
+  const Eigen::AngleAxisd mount(cfg_.lidar_pitch_deg * M_PI / 180.0, Eigen::Vector3d::UnitY());
+  const Eigen::Matrix3f r = mount.toRotationMatrix().cast<float>();
+  PointCloud level = sweep;
+  for (auto& p : level.points) {
+    const Eigen::Vector3f q = r * p.xyz();
+    p.x = q.x();
+    p.y = q.y();
+    p.z = q.z();
+  }
+  map_.add_scan(level, sensor_, T * mount.inverse());
 }
 
 void Loop::use_grid() {

@@ -147,7 +147,8 @@ TEST(NavigatePairs, OdometryPosesSeed0) {
 // the two pairs it fixes on both sensor-noise seeds measured: seed 1 (held out) round_terrace
 // keeps off the terrace's cliff (33 frames level; 0 with the look, ratio 1.022, 1.054 with sensor
 // noise seed 2) and seed 0 round_ditch sees the ditch before heading at it (1.223 level; 1.064,
-// 1.038 with noise seed 2). With the trench shadows: 1.022 and 1.040. Cold starts (no approach):
+// 1.038 with noise seed 2). With the trench shadows: 1.022 and 1.040; with the sweeps levelled by
+// the mount and the blind range following the pitch: 1.025 and 1.075. Cold starts (no approach):
 // with the 2 m approach as well, seed 1 round_terrace loops round its goal (2.092).
 TEST(NavigatePairs, PitchedLookRoundTerraceAndDitch) {
   loops::NavigateConfig cfg;

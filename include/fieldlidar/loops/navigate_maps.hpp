@@ -27,10 +27,11 @@ struct AreaGridRules {
   /// (ground too steep for the ground segmentation, such as a hill's flank, or a wall); 0 leaves
   /// such cells unknown.
   int seen_no_ground_points = 0;
-  /// Around the sensor at `sensor_xy_m`, within `blind_radius_m` (m; where its lowest beam cannot
-  /// reach the ground: mounting height / tan(-lowest elevation)), no return can be ground: a cell
-  /// there with `blind_points` returns and no ground plane (the top of a rock beside the robot at
-  /// the start, which the map cannot call an obstacle without the ground under it).
+  /// Around the sensor at `sensor_xy_m`, nearer than its lowest beam meets the ground (m;
+  /// blind_range_m: `blind_radius_m`, mounting height / tan(-lowest elevation), for a level
+  /// mount), no return can be ground: a cell there with `blind_points` returns and no ground
+  /// plane (the top of a rock beside the robot at the start, which the map cannot call an
+  /// obstacle without the ground under it).
   Eigen::Vector2d sensor_xy_m = Eigen::Vector2d::Zero();
   double sensor_z_m = 0.0;       ///< the sensor's height in the map's frame (m; drop bands)
   double sensor_height_m = 0.0;  ///< ... and above the ground under the robot (m)
@@ -67,6 +68,13 @@ struct AreaGridRules {
   /// may be the shadow's end as one of them saw it, nearer than the robot's own lowest beam.
   std::span<const Eigen::Vector3d> earlier_sensors_m;
 };
+
+/// How far from the sensor, in the map direction `u` (unit), its lowest beam meets the ground
+/// plane the robot stands on (m): nearer, no return there can be ground. rules.blind_radius_m
+/// for a level mount (its lowest beam rules.sensor_height_m over rules.blind_radius_m); a mount
+/// tilted on the robot (rules.sensor_up against rules.ground_normal) sees the ground nearer on
+/// the side it leans to and farther on the other; infinite where the beam does not descend.
+double blind_range_m(const AreaGridRules& rules, const Eigen::Vector2d& u);
 
 /// The fused map's traversability, impassable and points layers on `area` (cells the fused map has
 /// not seen stay unknown: NaN tau, 0 points), with the cells `rules` name impassable too.
