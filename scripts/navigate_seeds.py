@@ -14,13 +14,13 @@ usage: navigate_seeds.py FIRST LAST OUT [--fieldlidar PATH] [--jobs N] [-- NAVIG
 import argparse
 import concurrent.futures
 import csv
+import json
 import math
 import os
 import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-BLIND_RADIUS_M = 4.5  # 1.2 m / tan(15 deg): the default sensor and mast
 
 
 def run_seed(seed, out, fieldlidar, extra):
@@ -41,7 +41,11 @@ def run_seed(seed, out, fieldlidar, extra):
     with open(os.path.join(folder, "runs", "pairs.csv")) as f:
         rows = [dict(row, seed=seed) for row in csv.DictReader(f)]
     for row in rows:
-        row["first_touch_m"] = first_touch_m(os.path.join(folder, "runs", row["pair"]))
+        run = os.path.join(folder, "runs", row["pair"])
+        row["first_touch_m"] = first_touch_m(run)
+        with open(os.path.join(run, "summary.json")) as f:
+            info = json.load(f)
+        row["blind_radius_m"], row["sensor"] = info["blind_radius_m"], info["sensor"]
     return rows
 
 
@@ -66,7 +70,9 @@ def summary(rows):
     ratios = [float(r["ratio"]) for r in arrived]
     touched = [r for r in rows if int(r["frames_on_impassable"]) > 0]
     deep = [r for r in touched if float(r["max_impassable_depth_m"]) >= 0.1]
-    near = [r for r in touched if r["first_touch_m"] <= BLIND_RADIUS_M]
+    near = [r for r in touched if r["first_touch_m"] <= r["blind_radius_m"]]
+    blind = max((r["blind_radius_m"] for r in rows), default=0.0)
+    sensor = rows[0]["sensor"] if rows else "?"
     lines = [
         f"{len(rows)} pairs; {len(arrived)} of {len(reach)} goals the truth plan reaches arrived "
         f"(not: {' '.join(name(r) + '/' + r['outcome'] for r in reach if r['outcome'] != 'arrived')})",
@@ -81,7 +87,7 @@ def summary(rows):
         + " ".join(f"{name(r)}:{r['frames_on_impassable']}/{float(r['max_impassable_depth_m']):.2f}"
                    f"@{r['first_touch_m']:.1f}" for r in touched),
         f"  (frames/deepest m@where first touched, m from the start) {len(near)} of them first "
-        f"within {BLIND_RADIUS_M} m of their start, in the start's blind disk (a level VLP-16 on "
+        f"within {blind:.1f} m of their start, in the start's blind disk (a level {sensor} on "
         f"the 1.2 m mast sees no ground nearer; the approach's sweeps see part of it)",
         f"  {sum(r['outcome'] == 'unreachable' for r in unreach)} of {len(unreach)} goals the "
         f"truth plan does not reach reported unreachable",

@@ -32,6 +32,7 @@ namespace fs = std::filesystem;
 
 struct NavigateOptions {
   std::string scene = "terrain", start, goal, robot, pairs, out, pose_source = "truth";
+  std::string sensor = "vlp16";
   std::uint64_t seed = 0, noise_seed = loops::NavigateConfig{}.sim_seed;
   double max_time_s = 0, replan_period_s = loops::NavigateConfig{}.replan_period_s;
   double speed_m_s = loops::NavigateConfig{}.follower.max_speed_m_s;
@@ -106,6 +107,10 @@ void run(const NavigateOptions& o) {
   if (!pose_source)
     throw Error("--pose-source '" + o.pose_source + "': expected odometry or truth");
   cfg.pose_source = *pose_source;
+  const auto preset = SensorModel::preset(o.sensor);
+  if (!preset) throw Error("navigate: --sensor: unknown preset '" + o.sensor + "'");
+  const SensorModel& sensor = *preset;
+  loops::check_navigate_sensor(sensor);
   const sim::Scene scene = sim::make_terrain_scene({}, o.seed);
   std::vector<loops::NavigatePair> pairs;
   if (!o.pairs.empty()) {
@@ -127,7 +132,6 @@ void run(const NavigateOptions& o) {
   for (const auto& f : files)
     if (fs::exists(f) && !o.force)
       throw Error("navigate: " + f.string() + " exists (use --force to replace it)");
-  const SensorModel sensor = SensorModel::vlp16();
   const std::string header = fmt::format(
       "{:<14} {:<11} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6} {:>7} {:>7}  {}", "pair", "outcome",
       "driven_m", "truth_m", "ratio", "replan", "imp_fr", "depth", "sim_s", "wall_s", "reason");
@@ -155,6 +159,9 @@ void run(const NavigateOptions& o) {
                               {"max_slope_deg", cfg.fusion.layers.robot.max_slope_deg},
                               {"max_step_m", cfg.fusion.layers.robot.max_step_m},
                               {"min_turn_radius_m", cfg.fusion.layers.robot.min_turn_radius_m}}}};
+    // Where the level mount's lowest beam meets level ground: no ground return nearer.
+    extra["blind_radius_m"] =
+        scene.sensor_height_m() / std::tan(-sensor.beam_altitudes_rad.front());
     extra["lidar_pitch_deg"] = cfg.lidar_pitch_deg;
     extra["start_look_rad"] = cfg.start_look_rad;
     extra["approach_m"] = cfg.approach_m;
@@ -195,7 +202,7 @@ void add_navigate_command(CLI::App& app) {
   auto o = std::make_shared<NavigateOptions>();
   auto* cmd = app.add_subcommand(
       "navigate",
-      "Simulated off-road robot driving itself to a goal: VLP-16 scans -> fused traversability "
+      "Simulated off-road robot driving itself to a goal: LiDAR sweeps -> fused traversability "
       "map (true poses, or its own LiDAR odometry with --pose-source odometry) -> Hybrid A* -> "
       "pure pursuit, re-planning as the map grows");
   cmd->add_option("--scene", o->scene, "Simulated scene (terrain, 60 x 40 m)")
@@ -211,6 +218,11 @@ void add_navigate_command(CLI::App& app) {
                   "Start pose x,y,yaw (m, m, rad; scene frame); default: the scene route's start");
   cmd->add_option("--goal", o->goal,
                   "Goal pose x,y,yaw (m, m, rad; scene frame); default: the scene route's end");
+  cmd->add_option(
+         "--sensor", o->sensor,
+         "The robot's LiDAR, a multi-beam preset (vlp16, vlp32c, hdl32e, hdl64e, os1-64, "
+         "os1-128, os2-128) on the scene's 1.2 m mast; its lowest beam sets the blind disk")
+      ->capture_default_str();
   cmd->add_option("--robot", o->robot,
                   "Robot YAML (sizes, slope and step limits, min_turn_radius_m; see "
                   "config/robot_seed004.yaml); default: the seed's 0.93 x 0.58 m chassis")

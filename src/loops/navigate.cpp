@@ -45,11 +45,21 @@ bool finite(const planning::Pose2& p) {
 
 }  // namespace
 
+void check_navigate_sensor(const SensorModel& sensor) {
+  if (sensor.rings() < 2 || !(sensor.beam_altitudes_rad.front() < -0.01))
+    throw Error(fmt::format(
+        "navigate: sensor {} has {} beam(s), the lowest at {:.1f} deg: the loop maps the ground "
+        "with a multi-beam LiDAR whose lowest beam points below the horizon",
+        sensor.name, sensor.rings(),
+        sensor.rings() > 0 ? sensor.beam_altitudes_rad.front() * 180 / M_PI : 0.0));
+}
+
 NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
                             const planning::Pose2& start, const planning::Pose2& goal,
                             const NavigateConfig& config) {
   terrain::check_robot_config(config.fusion.layers.robot, "navigate: robot");
   if (!finite(start) || !finite(goal)) throw Error("navigate: start and goal must be finite");
+  check_navigate_sensor(sensor);
   for (const auto& [name, p] : {std::pair{"start", start}, std::pair{"goal", goal}})
     if (p.x_m < scene.min_m().x() || p.y_m < scene.min_m().y() || p.x_m > scene.max_m().x() ||
         p.y_m > scene.max_m().y())

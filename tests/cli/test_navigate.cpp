@@ -81,6 +81,29 @@ TEST(CliNavigate, OdometryPoseSource) {
   EXPECT_NE(bad.output.find("--pose-source"), std::string::npos) << bad.output;
 }
 
+// --sensor: another multi-beam LiDAR drives the same short way (the HDL-32E's lowest beam, -30.7
+// deg, meets the ground 2.0 m from the 1.2 m mast); the summary names it and its blind radius. A
+// planar laser, which sees no ground, and an unknown name are errors naming the problem, before
+// anything is written.
+TEST(CliNavigate, SensorPreset) {
+  const auto dir = temp_dir("cli_navigate_sensor");
+  const auto r = run_cli("navigate --seed 0 --start 3,20,0 --goal 9,20,0 --sensor hdl32e --out " +
+                         quoted(dir / "nav"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(slurp(dir / "nav" / "summary.json"));
+  EXPECT_EQ(j["outcome"], "arrived");
+  EXPECT_EQ(j["frames_on_impassable"], 0);
+  EXPECT_EQ(j["sensor"], "hdl32e");
+  EXPECT_NEAR(j["blind_radius_m"].get<double>(), 2.02, 0.01);
+  const auto planar = run_cli("navigate --seed 0 --sensor laser2d --out " + quoted(dir / "bad"));
+  EXPECT_EQ(planar.exit_code, 1);
+  EXPECT_NE(planar.output.find("below the horizon"), std::string::npos) << planar.output;
+  const auto unknown = run_cli("navigate --seed 0 --sensor hdl99 --out " + quoted(dir / "bad"));
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_NE(unknown.output.find("--sensor"), std::string::npos) << unknown.output;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
+}
+
 // Two pairs, a short drive and a goal on a rock (on_a_rock of the seed-0 pairs): each in its own
 // folder, the table in pairs.csv and the whole in one line.
 TEST(CliNavigate, PairsAreTallied) {

@@ -285,8 +285,12 @@ struct NavigateResult {
   Grid2D truth;           ///< Scene::terrain_truth at the map's cells
 };
 
+/// Throws fieldlidar::Error unless `sensor` can map the ground for the loop: a multi-beam LiDAR
+/// whose lowest beam points below the horizon.
+void check_navigate_sensor(const SensorModel& sensor);
+
 /// Drives from `start` to `goal` on `scene` (a terrain scene). Throws fieldlidar::Error on an
-/// absurd robot or config, or a start off the scene.
+/// absurd robot, sensor or config, or a start off the scene.
 NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
                             const planning::Pose2& start, const planning::Pose2& goal,
                             const NavigateConfig& config = {});
