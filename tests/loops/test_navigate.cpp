@@ -68,6 +68,9 @@ TEST(Navigate, BadInputIsAnError) {
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {NAN, 20, 0}, {8, 20, 0}),
                Error);
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::vlp16(), {3, 20, 0}, {80, 20, 0}), Error);
+  // A planar laser sees no ground to map.
+  EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::laser_2d(), {3, 20, 0}, {8, 20, 0}),
+               Error);
   // Each setting alone, on the defaults otherwise.
   const auto rejected = [](const char* what, auto set) {
     loops::NavigateConfig bad;
