@@ -159,9 +159,6 @@ void run(const NavigateOptions& o) {
                               {"max_slope_deg", cfg.fusion.layers.robot.max_slope_deg},
                               {"max_step_m", cfg.fusion.layers.robot.max_step_m},
                               {"min_turn_radius_m", cfg.fusion.layers.robot.min_turn_radius_m}}}};
-    // Where the level mount's lowest beam meets level ground: no ground return nearer.
-    extra["blind_radius_m"] =
-        scene.sensor_height_m() / std::tan(-sensor.beam_altitudes_rad.front());
     extra["lidar_pitch_deg"] = cfg.lidar_pitch_deg;
     extra["start_look_rad"] = cfg.start_look_rad;
     extra["approach_m"] = cfg.approach_m;

@@ -4,6 +4,8 @@
 #include <optional>
 #include <utility>
 
+#include "fieldlidar/core/rotate_points.hpp"
+
 namespace fieldlidar::follow {
 
 people::LegDetectorConfig FollowConfig::default_3d_legs() {
@@ -120,14 +122,7 @@ Perception perceive(const PointCloud& cloud_lidar, const SensorModel& sensor,
   std::optional<PointCloud> levelled;  // a copy only when the sensor is tilted
   if (!T_level_lidar.linear().isIdentity(1e-9)) {
     levelled = cloud_lidar;
-    const Eigen::Matrix3f R = T_level_lidar.linear().cast<float>();
-    for (auto& p : levelled->points) {
-      if (!p.is_valid()) continue;
-      const Eigen::Vector3f q = R * p.xyz();
-      p.x = q.x();
-      p.y = q.y();
-      p.z = q.z();
-    }
+    rotate_points(*levelled, T_level_lidar.linear().cast<float>());
   }
   const PointCloud& cloud = levelled ? *levelled : cloud_lidar;
   const auto indices =

@@ -148,6 +148,7 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
   r_.duration_s = t_;
   r_.odometry_unregistered = poses_->unregistered();
   r_.pose_source = cfg_.pose_source;
+  r_.blind_radius_m = blind_radius_m_;
   if (std::isfinite(r_.truth_length_m) && r_.truth_length_m > 0)
     r_.length_ratio = r_.driven_length_m / r_.truth_length_m;
   r_.scan_ms = r_.scans ? scan_ms_ / double(r_.scans) : 0.0;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fieldlidar/core/rotate_points.hpp"
 #include "fieldlidar/loops/navigate_maps.hpp"
 #include "fieldlidar/planning/planning_map.hpp"
 #include "fieldlidar/sim/motion.hpp"
@@ -67,14 +68,8 @@ void Loop::map_sweep(const PointCloud& sweep, const Pose& T) {
   // The mount's pitch is a known extrinsic: levelled by it, the sweep meets the ground
   // segmentation as a level sensor's does.
   const Eigen::AngleAxisd mount(cfg_.lidar_pitch_deg * M_PI / 180.0, Eigen::Vector3d::UnitY());
-  const Eigen::Matrix3f r = mount.toRotationMatrix().cast<float>();
   PointCloud level = sweep;
-  for (auto& p : level.points) {
-    const Eigen::Vector3f q = r * p.xyz();
-    p.x = q.x();
-    p.y = q.y();
-    p.z = q.z();
-  }
+  rotate_points(level, mount.toRotationMatrix().cast<float>());
   map_.add_scan(level, sensor_, T * mount.inverse());
 }
 

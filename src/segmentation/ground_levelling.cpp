@@ -16,6 +16,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include "fieldlidar/core/rotate_points.hpp"
 #include "fieldlidar/segmentation/ground.hpp"
 #include "ground_plane.hpp"
 #include "polar_grid.hpp"
@@ -188,13 +189,7 @@ GroundResult ground_robust_levelled(const PointCloud& cloud, const SensorModel& 
                                 .toRotationMatrix()
                                 .cast<float>();
   PointCloud level = cloud;
-  for (Point& p : level.points) {
-    if (!valid_point(p)) continue;
-    const Eigen::Vector3f q = R * Eigen::Vector3f(p.x, p.y, p.z);
-    p.x = q.x();
-    p.y = q.y();
-    p.z = q.z();
-  }
+  rotate_points(level, R);
   GroundResult r = ground_robust(level, sensor, robust);
   r.tilt_deg = up.tilt_deg;
   r.levelled = true;

@@ -181,6 +181,7 @@ nlohmann::json navigate_summary(const loops::NavigateResult& r) {
   j["guess_looks"] = r.guess_looks;
   j["escapes"] = r.escapes;
   j["approach_sweeps"] = r.approach_sweeps;
+  j["blind_radius_m"] = r.blind_radius_m;
   j["scans"] = r.scans;
   j["duration_s"] = r.duration_s;
   j["wall_s"] = r.wall_s;

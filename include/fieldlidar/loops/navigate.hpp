@@ -276,6 +276,9 @@ struct NavigateResult {
   double max_pose_error_m = 0;            ///< largest distance of the robot's pose from the truth
   std::size_t odometry_unregistered = 0;  ///< sweeps the odometry kept at its motion prior
   std::size_t approach_sweeps = 0;        ///< sweeps of the approach fused before the start
+  /// Where the sensor's lowest beam, level on its mast, meets level ground (m): no ground return
+  /// nearer (the blind disk the map's rules stand on).
+  double blind_radius_m = 0;
   std::size_t scans = 0;
   double duration_s = 0;  ///< simulated time
   double wall_s = 0;      ///< the run's wall-clock time
