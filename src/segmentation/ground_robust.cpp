@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -61,8 +62,12 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   // tables, where a cell often holds a single scan line; on 64 rings the first two cost more
   // than they gain (RELLIS-3D F1 0.9563 -> 0.9553).
   const bool sparse_rings = sensor.rings() <= 32;
+  // Where the lowest beam meets the prior plane: no ground is seen nearer.
+  const double lowest = sensor.min_altitude_rad();
+  const double blind_radius_m = lowest < 0 ? result.sensor_height_m / std::tan(-lowest)
+                                           : std::numeric_limits<double>::infinity();
   std::vector<detail::CellFit> fits =
-      detail::grow_ground_cells(grid, cells, prior, config, sparse_rings);
+      detail::grow_ground_cells(grid, cells, prior, config, sparse_rings, blind_radius_m);
   detail::agree_with_neighbours(grid, config, fits);
   detail::label_ground_points(cells, fits, config, sparse_rings, result);
 

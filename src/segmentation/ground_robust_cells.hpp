@@ -69,12 +69,19 @@ inline double cell_length_m(const RobustGroundConfig& config, double r_m) {
   return std::max(config.min_cell_m, config.cell_growth * r_m);
 }
 
+/// How far above the prior plane a sector's first cell at `range_m` may stand and still continue
+/// the ground (RobustGroundConfig::first_cell_max_rise_m): the cap times min(1, (range_m /
+/// blind_radius_m)^2); 0 without a downward beam (`blind_radius_m` infinite).
+double first_cell_rise_m(const RobustGroundConfig& config, double range_m, double blind_radius_m);
+
 /// Pass 1, per sector from the sensor outward: a cell is ground when its low-point plane is
 /// upright and flat and continues the ground of the inner cells (or, before any, the `prior`
-/// plane). `sparse_rings`: a beam table of 32 rings or fewer.
+/// plane). `sparse_rings`: a beam table of 32 rings or fewer; `blind_radius_m`: where the
+/// lowest beam meets the prior plane (m).
 std::vector<CellFit> grow_ground_cells(const PolarGrid& grid, const PolarCells& cells,
                                        const NearGroundPlane& prior,
-                                       const RobustGroundConfig& config, bool sparse_rings);
+                                       const RobustGroundConfig& config, bool sparse_rings,
+                                       double blind_radius_m);
 
 /// Pass 2: agreement with the neighbouring cells across sectors.
 void agree_with_neighbours(const PolarGrid& grid, const RobustGroundConfig& config,

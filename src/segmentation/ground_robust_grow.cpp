@@ -12,9 +12,17 @@
 
 namespace fieldlidar::segmentation::detail {
 
+double first_cell_rise_m(const RobustGroundConfig& config, double range_m, double blind_radius_m) {
+  if (!(config.first_cell_max_rise_m > 0) || !std::isfinite(blind_radius_m)) return 0.0;
+  if (!(blind_radius_m > 0)) return config.first_cell_max_rise_m;
+  const double q = range_m / blind_radius_m;
+  return config.first_cell_max_rise_m * std::min(1.0, q * q);
+}
+
 std::vector<CellFit> grow_ground_cells(const PolarGrid& grid, const PolarCells& cells,
                                        const NearGroundPlane& prior,
-                                       const RobustGroundConfig& config, bool sparse_rings) {
+                                       const RobustGroundConfig& config, bool sparse_rings,
+                                       double blind_radius_m) {
   const double max_slope_rad = config.max_slope_deg * std::numbers::pi / 180.0;
   const float max_cos = float(std::cos(max_slope_rad));
   const double tan_slope = std::tan(max_slope_rad);
@@ -64,14 +72,13 @@ std::vector<CellFit> grow_ground_cells(const PolarGrid& grid, const PolarCells& 
       } else {
         predicted = prior.height_at(r_mid * ca, r_mid * sa);
         tolerance = config.max_step_m + tan_slope * std::max(0.0, r_mid - config.near_range_m);
-        // The sector's first cell, above the plane: ground curving up away from the robot (a
-        // hill's foot) rises off the near plane as the square of the range, and no nearer cell
-        // shows the rise (the blind disk of a sparse sensor); a raised object has lower ground
-        // beyond it, a terrace's step rises more than the cap.
-        if (sparse_rings && !seen_nearer && fit.elevation > predicted &&
+        // The sector's first cell, above the plane: ground hidden in the blind disk (a hill's
+        // foot) may have risen off the near plane by the time it is seen, and no nearer cell
+        // shows the rise; a raised object has lower ground beyond it, a terrace's step rises
+        // more than the cap.
+        if (!seen_nearer && fit.elevation > predicted &&
             lowest_beyond(b) >= fit.elevation - float(config.max_step_m))
-          tolerance += std::min(config.first_cell_max_rise_m,
-                                0.5 * config.first_cell_curvature_per_m * r_mid * r_mid);
+          tolerance += first_cell_rise_m(config, r_mid, blind_radius_m);
       }
       seen_nearer = true;
       fit.predicted = float(predicted);

@@ -176,7 +176,7 @@ TEST(Navigate, StartLookTurnsInPlaceBeforeTheFirstPlan) {
 // default 2 m approach the block is not seen from afar and both drives measure 1.059. The block
 // was the hill's lower flank, whose first ground the sparse sensor sees above the plane round
 // the robot; the ground segmentation now takes it as ground (RobustGroundConfig::
-// first_cell_curvature_per_m: both drives 1.034), so the test turns that rule off to keep a
+// first_cell_max_rise_m: both drives 1.034), so the test turns that rule off to keep a
 // block seen from afar that later clears; the drop bands (NavigateConfig::drop_band_max_m) too:
 // with them, both drives measure 1.034 again.
 TEST(Navigate, DetourHoldWaitsForABlockSeenFromAfar) {
@@ -184,7 +184,7 @@ TEST(Navigate, DetourHoldWaitsForABlockSeenFromAfar) {
   const planning::Pose2 start{31, 32, 0}, goal{57, 32, 1.5708};
   loops::NavigateConfig cfg;
   cfg.approach_m = 0.0;
-  cfg.fusion.layers.ground.robust.first_cell_curvature_per_m = 0.0;
+  cfg.fusion.layers.ground.robust.first_cell_max_rise_m = 0.0;
   cfg.drop_band_max_m = 0.0;
   const auto held = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
   cfg.detour_hold_ratio = 0.0;
