@@ -18,9 +18,18 @@
 namespace fieldlidar::loops {
 namespace detail {
 
+namespace {
+
+SensorModel on_mast(SensorModel sensor, double mast_m) {
+  if (!(sensor.mounting_height_m > 0)) sensor.mounting_height_m = mast_m;
+  return sensor;
+}
+
+}  // namespace
+
 Loop::Loop(const sim::Scene& scene, const SensorModel& sensor, const NavigateConfig& config)
     : scene_(scene),
-      sensor_(sensor),
+      sensor_(on_mast(sensor, scene.sensor_height_m())),
       cfg_(config),
       robot_(config.fusion.layers.robot),
       planner_cfg_(planning::planner_config_for(robot_, config.planner)),

@@ -94,7 +94,7 @@ class Loop {
   }
 
   const sim::Scene& scene_;
-  const SensorModel& sensor_;
+  SensorModel sensor_;  ///< mounted at the scene's mast height (the ground's blind radius)
   NavigateConfig cfg_;
   terrain::RobotConfig robot_;
   planning::PlannerConfig planner_cfg_;

@@ -1,7 +1,8 @@
 // The robust default ground segmentation: local plane fits on a polar grid, grown outward from
-// the sensor with uprightness, flatness and height-continuity tests. The sensor height is
-// estimated from the cloud (estimate_sensor_height), so a wrong or unknown mounting height does
-// not matter; no state is kept between frames.
+// the sensor with uprightness, flatness and height-continuity tests. The ground near the sensor
+// is estimated from the cloud (prior_plane), so a wrong or unknown mounting height does not move
+// it; the mounting height, when known, only sets the blind radius of the first-cell rule
+// (RobustGroundConfig::first_cell_max_rise_m). No state is kept between frames.
 //
 // The steps, in ground_robust_*.cpp: a plane per polar cell grown outward from the prior plane
 // near the sensor (grow), agreement with the neighbouring cells (agree), the points near their
@@ -62,10 +63,13 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   // tables, where a cell often holds a single scan line; on 64 rings the first two cost more
   // than they gain (RELLIS-3D F1 0.9563 -> 0.9553).
   const bool sparse_rings = sensor.rings() <= 32;
-  // Where the lowest beam meets the prior plane: no ground is seen nearer.
+  // Where the lowest beam meets level ground under the sensor's mount (the estimated height
+  // when the mount is unknown): no ground is seen nearer.
   const double lowest = sensor.min_altitude_rad();
-  const double blind_radius_m = lowest < 0 ? result.sensor_height_m / std::tan(-lowest)
-                                           : std::numeric_limits<double>::infinity();
+  const double height =
+      sensor.mounting_height_m > 0 ? sensor.mounting_height_m : result.sensor_height_m;
+  const double blind_radius_m =
+      lowest < 0 ? height / std::tan(-lowest) : std::numeric_limits<double>::infinity();
   std::vector<detail::CellFit> fits =
       detail::grow_ground_cells(grid, cells, prior, config, sparse_rings, blind_radius_m);
   detail::agree_with_neighbours(grid, config, fits);

@@ -77,7 +77,7 @@ double first_cell_rise_m(const RobustGroundConfig& config, double range_m, doubl
 /// Pass 1, per sector from the sensor outward: a cell is ground when its low-point plane is
 /// upright and flat and continues the ground of the inner cells (or, before any, the `prior`
 /// plane). `sparse_rings`: a beam table of 32 rings or fewer; `blind_radius_m`: where the
-/// lowest beam meets the prior plane (m).
+/// lowest beam meets level ground (m).
 std::vector<CellFit> grow_ground_cells(const PolarGrid& grid, const PolarCells& cells,
                                        const NearGroundPlane& prior,
                                        const RobustGroundConfig& config, bool sparse_rings,

@@ -100,8 +100,9 @@ struct RobustGroundConfig {
   double descent_gap_m = 6.0;
   /// The first non-empty cell of a sector, above the prior plane near the sensor, continues
   /// the ground within max_step_m plus first_cell_max_rise_m x min(1, (r / r_b)^2), r the
-  /// cell's range and r_b the blind radius (where the lowest beam meets the prior plane: the
-  /// estimated sensor height over the tangent of that beam's depression), when nothing beyond it
+  /// cell's range and r_b the blind radius (where the lowest beam meets level ground: the
+  /// sensor's mounting height, or its height estimated over the prior plane when the mount is
+  /// unknown, over the tangent of that beam's depression), when nothing beyond it
   /// in the sector lies lower by more than max_step_m. No ground is seen inside the blind disk,
   /// so the first ground seen at a hill's foot stands above the plane of the flatter ground
   /// around the robot, and every cell beyond it was lost with it (the flank then read as
@@ -119,8 +120,9 @@ struct RobustGroundConfig {
   /// (HDL-32E, r_b 2.0 m) a tenth of the cap at its first cells, and the rule was for sparse
   /// beam tables (up to 32 rings) only, though the blind disk is every sensor's: the navigate
   /// random pairs of seeds 2-21 (184 reachable goals) with the HDL-32E found no path from
-  /// starts beside the hill's flank (175 arrived) and with the OS1-64 gave up goals on it (174).
-  /// 0 = off.
+  /// starts beside the hill's flank (175 arrived) and with the OS1-64 gave up goals on it (174;
+  /// docs/navigate.md has the figures since). The estimated height instead of the mount's, on a
+  /// VLP-16 whose mount is known, moved r_b on slopes and lost seed 1's round_hill. 0 = off.
   double first_cell_max_rise_m = 0.3;  ///< m, the most the rule adds to the tolerance
   double max_flatness_m = 0.08;        ///< sqrt of the smallest eigenvalue of a ground fit
   double ground_above_m = 0.15;        ///< points up to this above the local plane are ground
