@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -20,6 +21,10 @@ std::vector<double> uniform_deg(double lo_deg, double hi_deg, int n) {
 
 double SensorModel::min_altitude_rad() const {
   return beam_altitudes_rad.empty() ? 0.0 : beam_altitudes_rad.front();
+}
+double SensorModel::ground_reach_m(double height_m) const {
+  const double lowest = min_altitude_rad();
+  return lowest < 0 ? height_m / std::tan(-lowest) : std::numeric_limits<double>::infinity();
 }
 double SensorModel::max_altitude_rad() const {
   return beam_altitudes_rad.empty() ? 0.0 : beam_altitudes_rad.back();

@@ -39,9 +39,8 @@ Loop::Loop(const sim::Scene& scene, const SensorModel& sensor, const NavigateCon
   f.min_turn_radius_m = robot_.min_turn_radius_m;
   follower_ = planning::PathFollower(f);
   area_ = GridGeometry::covering(scene.min_m(), scene.max_m(), config.fusion.layers.cell_m);
-  const double lowest = sensor.beam_altitudes_rad.empty() ? 0.0 : sensor.beam_altitudes_rad[0];
   mast_m_ = scene.sensor_height_m();
-  if (lowest < -0.01) blind_radius_m_ = mast_m_ / std::tan(-lowest);
+  if (sensor.min_altitude_rad() < -0.01) blind_radius_m_ = sensor.ground_reach_m(mast_m_);
 }
 
 }  // namespace detail

@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -65,11 +64,8 @@ GroundResult ground_robust(const PointCloud& cloud, const SensorModel& sensor,
   const bool sparse_rings = sensor.rings() <= 32;
   // Where the lowest beam meets level ground under the sensor's mount (the estimated height
   // when the mount is unknown): no ground is seen nearer.
-  const double lowest = sensor.min_altitude_rad();
-  const double height =
-      sensor.mounting_height_m > 0 ? sensor.mounting_height_m : result.sensor_height_m;
-  const double blind_radius_m =
-      lowest < 0 ? height / std::tan(-lowest) : std::numeric_limits<double>::infinity();
+  const double blind_radius_m = sensor.ground_reach_m(
+      sensor.mounting_height_m > 0 ? sensor.mounting_height_m : result.sensor_height_m);
   std::vector<detail::CellFit> fits =
       detail::grow_ground_cells(grid, cells, prior, config, sparse_rings, blind_radius_m);
   detail::agree_with_neighbours(grid, config, fits);

@@ -84,12 +84,9 @@ TEST(Ground, RobustFollowsASlopeAndARollingHill) {
 // returns taken for ground there are the rock's foot, the same with the rule or without).
 TEST(Ground, FirstGroundUpAHillsFootFromTheBlindDisk) {
   const double h = 1.2, k = 0.06;
-  const auto blind_radius = [&](const SensorModel& s) {
-    return h / std::tan(-s.min_altitude_rad());
-  };
   for (const SensorModel& sensor :
        {SensorModel::vlp16(), SensorModel::hdl32e(), SensorModel::os1_64()}) {
-    const double shift = blind_radius(sensor) - blind_radius(SensorModel::vlp16());
+    const double shift = sensor.ground_reach_m(h) - SensorModel::vlp16().ground_reach_m(h);
     const double foot = 2.0 + shift;
     auto ground = [&](double x, double y) {  // the hill ahead only, about 6 m wide
       return x > foot ? -h + 0.5 * k * (x - foot) * (x - foot) * std::exp(-y * y / 8.0) : -h;
@@ -124,9 +121,11 @@ TEST(Ground, FirstGroundUpAHillsFootFromTheBlindDisk) {
         sensor.name.c_str(), foot, hill_recall(with), hill_recall(without), rock_ground(with),
         rock_ground(without));
     EXPECT_GT(hill_recall(with), 0.9) << sensor.name;
-    // The dense sensor's multi-ring cells follow this hill without the rule.
+    // The dense sensor's multi-ring cells follow this hill without the rule (0.966 either way);
+    // the sparse ones lose a third (VLP-16 0.916 / 0.573) or a quarter (HDL-32E 0.926 / 0.689).
     if (sensor.rings() <= 32) {
-      EXPECT_LT(hill_recall(without), hill_recall(with) - 0.2) << sensor.name;
+      const double gain = sensor.rings() <= 16 ? 0.3 : 0.2;
+      EXPECT_LT(hill_recall(without), hill_recall(with) - gain) << sensor.name;
     }
     EXPECT_EQ(rock_ground(with), rock_ground(without)) << sensor.name;
   }

@@ -36,6 +36,9 @@ struct SensorModel {
   double horizontal_resolution_rad() const { return horizontal_fov_rad / columns; }
   double min_altitude_rad() const;
   double max_altitude_rad() const;
+  /// Range at which the lowest beam meets level ground `height_m` below the sensor (the blind
+  /// radius: no ground return nearer); infinity when no beam looks down.
+  double ground_reach_m(double height_m) const;
   /// Mean spacing of the beam elevations (vertical resolution of a uniform range image).
   double vertical_resolution_rad() const;
   /// Ring whose elevation is nearest to `altitude_rad` (works for non-uniform beam tables).
