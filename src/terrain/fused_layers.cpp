@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "fused_cell.hpp"
+#include "plane_normal.hpp"
 
 namespace fieldlidar::terrain::detail {
 namespace {
@@ -17,19 +18,19 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-/// Unit normal (z >= 0) of the plane of a set's covariance.
-Eigen::Vector3d plane_normal(const PlaneSums& sums) {
+/// Unit normal (z >= 0) of the plane of a set's covariance (plane_normal.hpp: a line's least
+/// tilt).
+Eigen::Vector3d plane_normal(const PlaneSums& sums, double min_spread_m) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
   eig.computeDirect(sums.covariance());  // closed form: 3 x 3, many cells per scan
-  Eigen::Vector3d n = eig.eigenvectors().col(0);
-  return n.z() < 0 ? Eigen::Vector3d(-n) : n;
+  return detail::plane_normal(eig, min_spread_m);
 }
 
 /// The normal of the cell's own ground returns, computed once until they change (a cell is
 /// derived again whenever a neighbour in its window changes, its own plane mostly not).
-const Eigen::Vector3d& own_normal(FusedCell& cell) {
+const Eigen::Vector3d& own_normal(FusedCell& cell, double min_spread_m) {
   if (!cell.own_normal_fresh) {
-    cell.own_normal = plane_normal(cell.ground);
+    cell.own_normal = plane_normal(cell.ground, min_spread_m);
     cell.own_normal_fresh = true;
   }
   return cell.own_normal;
@@ -82,10 +83,11 @@ double clear_ground_slope_deg(const CellBlock& store, int ix, int iy, int half,
         FusedCell* q = store.find(ix + dx, iy + dy);
         if (!q || q->ground.n < config.min_ground_points) continue;
         if (skip_obstacles && (q->log_odds > 0.0f || q->bump)) continue;
-        if (q->ground.n >= c.min_voxel_points && own_normal(*q).z() < min_nz) continue;
+        if (q->ground.n >= c.min_voxel_points && own_normal(*q, c.min_plane_spread_m).z() < min_nz)
+          continue;
         sums.add_shifted(q->ground, offset(c.cell_m, dx, dy, cell.z_ref, q->z_ref));
       }
-    if (sums.n >= c.min_voxel_points) return slope_deg(plane_normal(sums));
+    if (sums.n >= c.min_voxel_points) return slope_deg(plane_normal(sums, c.min_plane_spread_m));
   }
   return std::numeric_limits<double>::quiet_NaN();
 }
@@ -187,9 +189,10 @@ void derive_cell(const CellBlock& store, int ix, int iy, int half, const FusionC
     return;
   }
   const Eigen::Vector3d centroid = window.mean();
-  const Eigen::Vector3d window_normal = plane_normal(window);
+  const Eigen::Vector3d window_normal = plane_normal(window, c.min_plane_spread_m);
   const bool own_plane = cell->ground.n >= config.min_own_plane_points;
-  const Eigen::Vector3d normal = own_plane ? own_normal(*cell) : window_normal;
+  const Eigen::Vector3d normal =
+      own_plane ? own_normal(*cell, c.min_plane_spread_m) : window_normal;
   const double rho = slope_deg(normal);
   // The planes give a mean slope and need the margin; the rise between two neighbours' mean
   // ground is already the local steepest and is held to its own margin.

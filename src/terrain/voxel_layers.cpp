@@ -13,6 +13,7 @@
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/terrain/robot_config.hpp"
 #include "fieldlidar/terrain/traversability.hpp"
+#include "plane_normal.hpp"
 
 namespace fieldlidar::terrain {
 namespace {
@@ -33,6 +34,7 @@ TraversabilityConfig seed004_config() {
   c.project_obstacles = false;
   c.ground_plane = false;
   c.voxel_step = false;
+  c.min_plane_spread_m = 0.0;
   return c;
 }
 
@@ -40,6 +42,9 @@ double voxel_side_m(const TraversabilityConfig& c) {
   check_range("robot.length_m", c.robot.length_m, 0.0, 20.0);
   check_range("robot.width_m", c.robot.width_m, 0.0, 20.0);
   check_range("cell_m", c.cell_m, 0.0, 10.0);
+  if (!(c.min_plane_spread_m >= 0.0 && c.min_plane_spread_m <= 10.0))
+    throw Error("terrain config: min_plane_spread_m = " + std::to_string(c.min_plane_spread_m) +
+                " is outside [0, 10]");
   const double diagonal = std::hypot(c.robot.length_m, c.robot.width_m);
   int cells = int(std::ceil(diagonal / c.cell_m - 1e-9));
   if (cells % 2 == 0) ++cells;
@@ -112,12 +117,10 @@ struct VoxelFit {
 
 /// Unit normal (z >= 0) and centroid of a point set's sums.
 Eigen::Vector3d fit_plane(const Eigen::Vector3d& s1, const Eigen::Matrix3d& s2, int count,
-                          Eigen::Vector3d& centroid) {
+                          double min_spread_m, Eigen::Vector3d& centroid) {
   centroid = s1 / count;
   const Eigen::Matrix3d cov = s2 / count - centroid * centroid.transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-  Eigen::Vector3d nrm = eig.eigenvectors().col(0);
-  return nrm.z() < 0 ? Eigen::Vector3d(-nrm) : nrm;
+  return detail::plane_normal(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov), min_spread_m);
 }
 
 /// nullopt when the voxel holds fewer than min_voxel_points.
@@ -157,9 +160,10 @@ std::optional<VoxelFit> fit_voxel(const CellBins& b, std::span<const Eigen::Vect
   // The seed's voxel plane (all points in the voxel) decides the 2D obstacle; the ground's own
   // plane (its ground returns, when enough) gives the slope of the ground there.
   Eigen::Vector3d voxel_centroid;
-  const Eigen::Vector3d voxel_normal = fit_plane(sum, sq, n, voxel_centroid);
+  const Eigen::Vector3d voxel_normal = fit_plane(sum, sq, n, c.min_plane_spread_m, voxel_centroid);
   v.ground_plane = c.ground_plane && gn >= c.min_voxel_points;
-  v.normal = v.ground_plane ? fit_plane(gsum, gsq, gn, v.centroid) : voxel_normal;
+  v.normal =
+      v.ground_plane ? fit_plane(gsum, gsq, gn, c.min_plane_spread_m, v.centroid) : voxel_normal;
   if (!v.ground_plane) v.centroid = voxel_centroid;
   const double rho_voxel = std::acos(std::clamp(voxel_normal.z(), -1.0, 1.0)) / kDeg;
   v.rho = std::acos(std::clamp(v.normal.z(), -1.0, 1.0)) / kDeg;

@@ -178,7 +178,9 @@ TEST(Navigate, StartLookTurnsInPlaceBeforeTheFirstPlan) {
 // the robot; the ground segmentation now takes it as ground (RobustGroundConfig::
 // first_cell_max_rise_m: both drives 1.034), so the test turns that rule off to keep a
 // block seen from afar that later clears; the drop bands (NavigateConfig::drop_band_max_m) too:
-// with them, both drives measure 1.034 again.
+// with them, both drives measure 1.034 again; and the lone ring's level plane
+// (TraversabilityConfig::min_plane_spread_m), with which the flank reads passable from afar as
+// well (both drives 1.060).
 TEST(Navigate, DetourHoldWaitsForABlockSeenFromAfar) {
   const sim::Scene scene = sim::make_terrain_scene({}, 0);
   const planning::Pose2 start{31, 32, 0}, goal{57, 32, 1.5708};
@@ -186,6 +188,7 @@ TEST(Navigate, DetourHoldWaitsForABlockSeenFromAfar) {
   cfg.approach_m = 0.0;
   cfg.fusion.layers.ground.robust.first_cell_max_rise_m = 0.0;
   cfg.drop_band_max_m = 0.0;
+  cfg.fusion.layers.min_plane_spread_m = 0.0;
   const auto held = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
   cfg.detour_hold_ratio = 0.0;
   const auto swapped = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
