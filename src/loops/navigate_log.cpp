@@ -1,4 +1,4 @@
-// Names and the CSV log of the navigate loop.
+// The navigate loop's default map and planner settings, names and its CSV log.
 
 #include <fmt/core.h>
 
@@ -13,6 +13,12 @@ planning::PlannerConfig navigate_planner_config() {
   // driven paths grew with it (scripts/navigate_seeds.py 2 21: mean length ratio 1.050 -> 1.073
   // at 500 expansions, 1.058 at 700, 1.055 at 1000; 180 -> 178-179 of 184 arriving).
   c.late_expansions = 0;
+  return c;
+}
+
+terrain::FusionConfig navigate_fusion_config() {
+  terrain::FusionConfig c;
+  c.layers.ground.levelling.enabled = false;
   return c;
 }
 

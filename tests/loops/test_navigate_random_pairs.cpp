@@ -1,21 +1,20 @@
 // Random start/goal pairs on the terrain scenes of seeds 2-5 (data/navigate_pairs_terrain_seed2..5
 // .csv, 12 each, drawn by scripts/navigate_random_pairs.py; slow: about a minute in Release), the
 // navigate loop with its defaults. Judged as a whole, with bounds from the figures measured:
-// - the 36 pairs whose goal the Hybrid A* plan on the truth map reaches: 35 arrive, seed 5 p9 is
-//   reported unreachable after 105 m (its goal by the hill's east flank: the robot came at it
-//   from the south, found the last gap beside a rock blocked and went round the hill's west); 31
-//   of 35 within 1.15 x the truth plan, mean ratio 1.098, largest 2.013 (seed 4 p9 tries the
+// - the 36 pairs whose goal the Hybrid A* plan on the truth map reaches: every one arrives; 31
+//   of 36 within 1.15 x the truth plan, mean ratio 1.096, largest 2.013 (seed 4 p9 tries the
 //   gap at the end of the diagonal wall and turns back; 2 p4 1.707, 3 p3 1.404: detours round
 //   rock fields whose gaps the map's obstacle halo closes). Before a lone ring's plane was read
-//   as level (TraversabilityConfig::min_plane_spread_m) all 36 arrived, 32 within 1.15, mean
-//   1.050, largest 1.288: seeds 2-5 lost by it what seeds 6-21 and the held-out seeds gained
-//   (docs/navigate.md). Two drives put the footprint on truth-impassable cells: seed 2 p9, 10
-//   frames (its corner 4 cm into the cell west of a rock by the terrace's north-west corner, a
-//   cell the map held unknown as the robot passed, 2 returns: in the blind disk then, seen only
-//   edge-on before; its east and north neighbours were blocked by their step, and the obstacle
-//   halo grows only from cells with obstacle returns), and seed 4 p9, 11 frames (5 cm into a
-//   rock's cell on its detour round the wall's west; seed 3 p3, 12 frames turning onto its goal
-//   beside the ditch's end before, now 0);
+//   as level (TraversabilityConfig::min_plane_spread_m) 32 were within 1.15, mean 1.050,
+//   largest 1.288: seeds 2-5 lost by it what seeds 6-21 and the held-out seeds gained
+//   (docs/navigate.md); with it, before the sweeps were segmented in the robot's own frame
+//   (loops::navigate_fusion_config), seed 5 p9 was reported unreachable after 105 m. Two drives put
+//   the footprint on truth-impassable cells: seed 2 p9, 10 frames (its corner 4 cm into the cell
+//   west of a rock by the terrace's north-west corner, a cell the map held unknown as the robot
+//   passed, 2 returns: in the blind disk then, seen only edge-on before; its east and north
+//   neighbours were blocked by their step, and the obstacle halo grows only from cells with
+//   obstacle returns), and seed 4 p9, 11 frames (5 cm into a rock's cell on its detour round the
+//   wall's west; seed 3 p3, 12 frames turning onto its goal beside the ditch's end before, now 0);
 // - the 6 goals on the walled-in terrace: each reported unreachable, 0 frames (8 before, seed 3
 //   p0: the footprint's corner on the truth cell at the terrace's corner);
 // - the 6 starts on the terrace (truth: no way off): all 6 reported unreachable, 0 frames. Before
@@ -150,7 +149,7 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
       },
       0);
   expect_within(t, {.reachable = 36,
-                    .arrived_min = 35,
+                    .arrived_min = 36,  // every one
                     .drives_with_frames_max = 2,
                     .frames_max = 22,
                     .over_max = 5,
@@ -186,10 +185,12 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
 // 1); 13 goals and 8 starts on the terrace. Seeds 14-21: 72 of 73 (not seed 16 p2), 7 over 1.15
 // (mean 1.071, largest 1.980), 5 drives with frames (155: seed 18 p3 17, 20 p9 12, 20 p11 27, 21
 // p9 66, 21 p11 33); 13 goals (8 frames) and 10 starts on the terrace. Since a lone ring's plane
-// is read as level (scripts/navigate_seeds.py, the loop's own time budget): seeds 6-13 73 of 75
-// (8 p9 arrives), 3 over 1.15 (mean 1.024), 5 drives with frames (85: 8 p8 26, 11 p0 8, 13 p8 0);
-// seeds 14-21 72 of 73 (16 p2 arrives, 20 p11 is reported unreachable), 6 over 1.15 (mean 1.051,
-// largest 1.733), 3 drives with frames (95: 21 p11 0). The bounds stay those measured before.
+// is read as level and the sweeps are segmented in the robot's own frame
+// (loops::navigate_fusion_config): seeds 6-13 73 of 75 (not 7 p6, 9 p11), 2 over 1.15 (mean
+// 1.014, largest 1.332), 5 drives with frames (83: 8 p8 26, 9 p2 19, 11 p0 8, 11 p4 29, 13 p10
+// 1); seeds 14-21 71 of 73 (14 p3 fails on 31 emergency stops 3.5 m from its start, 16 p2 is
+// reported unreachable), 6 over 1.15 (mean 1.047, largest 1.733), 4 drives with frames (106: 18
+// p3 17, 20 p9 12, 20 p11 11, 21 p9 66). The other bounds stay those measured before.
 TEST(NavigatePairs, RandomPairsSeeds6To13) {
   expect_within(drive_random_pairs(
                     6, 13, [](std::uint64_t, const std::string&) { return 100u; }, 0),
@@ -209,7 +210,7 @@ TEST(NavigatePairs, RandomPairsSeeds14To21) {
     return seed == 21 && name == "p9" ? 70u : 100u;
   };
   expect_within(drive_random_pairs(14, 21, frames_max, 0), {.reachable = 73,
-                                                            .arrived_min = 72,
+                                                            .arrived_min = 71,
                                                             .drives_with_frames_max = 5,
                                                             .frames_max = 160,
                                                             .over_max = 7,

@@ -46,9 +46,18 @@ const char* to_string(NavigateState state);
 /// searches never hurried (late_expansions 0).
 planning::PlannerConfig navigate_planner_config();
 
+/// The fused map's defaults with the ground segmentation's levelling off: the robot's LiDAR is
+/// fixed to its chassis (a pitched mount is levelled by its known extrinsic first), so the
+/// sweep's own frame is the ground's under the robot. Levelled to the plane of the ground out to
+/// 20 m instead, a robot standing on a hill's foot saw the foot round it tilted by the hill's
+/// slope, and its lowest ring's returns there (2-3 m out on a VLP-32C) were left out of the
+/// ground and read as obstacles round the start. Navigate pairs, seeds 2-21, with levelling ->
+/// without: VLP-32C 172 -> 180 of 184 arrive, VLP-16 180 -> 180 (docs/navigate.md).
+terrain::FusionConfig navigate_fusion_config();
+
 struct NavigateConfig {
   /// Map fusion; fusion.layers.robot is the robot (footprint, limits, R_min).
-  terrain::FusionConfig fusion;
+  terrain::FusionConfig fusion = navigate_fusion_config();
   /// The planner; its min_turn_radius_m is taken from the robot. Unknown cells at tau 1.
   planning::PlannerConfig planner = navigate_planner_config();
   /// The follower; its min_turn_radius_m is taken from the robot.
