@@ -74,7 +74,9 @@ struct TraversabilityConfig {
 TraversabilityConfig seed004_config();
 
 /// Voxel side g_l (m) and height g_h (m) for a config; raises fieldlidar::Error on an absurd
-/// robot (sizes not in (0, 20] m, slope not in (0, 80) deg, step not in (0, 5] m).
+/// robot (sizes not in (0, 20] m, slope not in (0, 80) deg, step not in (0, 5] m), cell side (not
+/// in (0, 10] m) or line spread (min_plane_spread_m not in [0, 10] m): the map's constructors
+/// and map_scan validate their config through it.
 double voxel_side_m(const TraversabilityConfig& config);
 double voxel_height_m(const TraversabilityConfig& config);
 
