@@ -107,6 +107,7 @@ class Loop {
   Grid2D grid_;                           ///< the fused map on the area (planner input)
   std::vector<std::uint8_t> drop_marks_;  ///< drop bands seen so far (area_grid, mark_drop_bands)
   std::vector<std::uint8_t> felt_;        ///< cells the tilt stop found impassable (for good)
+  std::vector<std::uint8_t> driven_;      ///< cells the robot has stood on (mark_driven)
   std::vector<std::uint8_t> looked_;      ///< guessed drops a look went to see (look_at_guesses)
   std::vector<Eigen::Vector3d> approach_sensors_;     ///< the approach's sensor positions (m)
   std::unique_ptr<planning::PlanningMap> check_map_;  ///< the planner's view of grid_

@@ -83,6 +83,8 @@ Grid2D area_grid(const terrain::TerrainMap& map, const GridGeometry& area,
   drop_marks.resize(area.cell_count(), 0);
   mark_drop_bands(area, elevation, pts, known_blocked(out), rules, drop_marks);
   mark_blind_drops(area, elevation, pts, rules, drop_marks);
+  for (std::size_t i = 0; i < rules.driven.size() && i < drop_marks.size(); ++i)
+    if (rules.driven[i]) drop_marks[i] = 0;
   for (int iy = 0; iy < area.height; ++iy)
     for (int ix = 0; ix < area.width; ++ix)
       if (drop_marks[area.linear_index(ix, iy)] && off_goal(ix, iy))
@@ -135,6 +137,21 @@ std::vector<std::uint8_t> known_blocked(const Grid2D& grid) {
 std::vector<long> footprint_cells(const GridGeometry& geometry, const planning::Pose2& pose,
                                   const terrain::RobotConfig& robot) {
   return planning::rectangle_cells(geometry, pose, 0.5 * robot.length_m, 0.5 * robot.width_m);
+}
+
+void mark_driven(const GridGeometry& geometry, const planning::Pose2& pose,
+                 const terrain::RobotConfig& robot, std::vector<std::uint8_t>& driven) {
+  driven.resize(geometry.cell_count(), 0);
+  const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
+  for (long i : footprint_cells(geometry, pose, robot)) {
+    if (i < 0) continue;
+    const Eigen::Vector2d d =
+        geometry.cell_center(int(i % geometry.width), int(i / geometry.width)) -
+        Eigen::Vector2d(pose.x_m, pose.y_m);
+    if (std::abs(c * d.x() + s * d.y()) <= 0.5 * robot.length_m &&
+        std::abs(-s * d.x() + c * d.y()) <= 0.5 * robot.width_m)
+      driven[std::size_t(i)] = 1;
+  }
 }
 
 std::optional<planning::Pose2> nearest_free_pose(const planning::PlanningMap& map,

@@ -40,6 +40,7 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
   const double dt = cfg_.control_period_s;
   double next_scan = 0.0;
   while (!done_) {
+    if (cfg_.driven_clears_guesses) mark_driven(area_, me(), robot_, driven_);
     if (t_ + 1e-9 >= next_scan) {
       scan();
       next_scan += cfg_.scan_period_s;

@@ -38,7 +38,8 @@ AreaGridRules area_grid_rules(const NavigateConfig& config, const Pose& sensor_p
               Eigen::Vector3d::UnitZ(),
           .sensor_up = R * Eigen::Vector3d::UnitZ(),
           .max_slope_deg = robot.max_slope_deg,
-          .earlier_sensors_m = earlier_sensors_m};
+          .earlier_sensors_m = earlier_sensors_m,
+          .driven = {}};
 }
 
 }  // namespace fieldlidar::loops
@@ -50,10 +51,10 @@ void Loop::scan() {
   const sim::SimFrame frame = lidar_.scan(t_, poses_->lidar_pose(pose_));
   const Pose placed = poses_->place_sweep(frame.cloud, t_, pose_);
   map_sweep(frame.cloud, placed);
-  grid_ = area_grid(map_, area_,
-                    area_grid_rules(cfg_, placed, {me().x_m, me().y_m}, mast_m_, blind_radius_m_,
-                                    {goal_.x_m, goal_.y_m}, approach_sensors_),
-                    drop_marks_);
+  AreaGridRules rules = area_grid_rules(cfg_, placed, {me().x_m, me().y_m}, mast_m_,
+                                        blind_radius_m_, {goal_.x_m, goal_.y_m}, approach_sensors_);
+  rules.driven = driven_;
+  grid_ = area_grid(map_, area_, rules, drop_marks_);
   use_grid();
   map_updated_ = true;
   ++r_.scans;

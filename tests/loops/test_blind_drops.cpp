@@ -1,7 +1,8 @@
 // Drops hidden in the blind disk (loops::mark_blind_drops): the edge of a terrace 2 m beside a
 // robot that has not moved is marked from what one sweep sees beyond its blind disk; level
 // ground, ground falling away past a crest, a robot on a slope, a return in the band and ground
-// seen from another pose are not.
+// seen from another pose are not; the cells a robot has driven over (mark_driven) are those
+// whose centres its footprint covers.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -150,4 +151,25 @@ TEST(BlindDrops, TheShadowsEndAsAnApproachSweepSawIt) {
   s.mark();
   EXPECT_TRUE(s.marked(11.25, 10.25));  // the approach's shadow: the edge between
   EXPECT_FALSE(s.marked(11.25, 6.25));  // the terrace beside the robot: ground at its level
+}
+
+TEST(BlindDrops, DrivenCellsAreThoseWhoseCentresTheFootprintCovers) {
+  // The seed's 0.93 x 0.58 m chassis on 0.5 m cells: the cells whose centres it covers.
+  const GridGeometry area{.resolution_m = 0.5, .origin_m = {0, 0}, .width = 40, .height = 40};
+  const terrain::RobotConfig robot;
+  std::vector<std::uint8_t> driven;
+  loops::mark_driven(area, {10.0, 10.0, 0.0}, robot, driven);
+  ASSERT_EQ(driven.size(), area.cell_count());
+  EXPECT_EQ(std::count(driven.begin(), driven.end(), 1), 4);  // centres 0.25 m off both axes
+  for (double x : {9.75, 10.25})
+    for (double y : {9.75, 10.25})
+      EXPECT_TRUE(driven[area.linear_index(int(x / 0.5), int(y / 0.5))]);
+  // Along y, centred on a cell: its centre and the two along the heading, 0.5 m away, are out
+  // of the 0.465 m half-length; the cells beside it (0.5 m) too.
+  std::vector<std::uint8_t> along;
+  loops::mark_driven(area, {10.25, 10.25, M_PI / 2}, robot, along);
+  EXPECT_EQ(std::count(along.begin(), along.end(), 1), 1);
+  // Marks accumulate: the first pose's cells stay.
+  loops::mark_driven(area, {10.25, 10.25, M_PI / 2}, robot, driven);
+  EXPECT_EQ(std::count(driven.begin(), driven.end(), 1), 4);
 }

@@ -190,7 +190,9 @@ TEST(NavigatePairs, RandomPairsSeeds2To5) {
 // 1.014, largest 1.332), 5 drives with frames (83: 8 p8 26, 9 p2 19, 11 p0 8, 11 p4 29, 13 p10
 // 1); seeds 14-21 71 of 73 (14 p3 fails on 31 emergency stops 3.5 m from its start, 16 p2 is
 // reported unreachable), 6 over 1.15 (mean 1.047, largest 1.733), 4 drives with frames (106: 18
-// p3 17, 20 p9 12, 20 p11 11, 21 p9 66). The other bounds stay those measured before.
+// p3 17, 20 p9 12, 20 p11 11, 21 p9 66); since ground driven over is no guess
+// (NavigateConfig::driven_clears_guesses) 14 p3 arrives (72 of 73, ratio 1.125). The other
+// bounds stay those measured before.
 TEST(NavigatePairs, RandomPairsSeeds6To13) {
   expect_within(drive_random_pairs(
                     6, 13, [](std::uint64_t, const std::string&) { return 100u; }, 0),
@@ -210,7 +212,7 @@ TEST(NavigatePairs, RandomPairsSeeds14To21) {
     return seed == 21 && name == "p9" ? 70u : 100u;
   };
   expect_within(drive_random_pairs(14, 21, frames_max, 0), {.reachable = 73,
-                                                            .arrived_min = 71,
+                                                            .arrived_min = 72,
                                                             .drives_with_frames_max = 5,
                                                             .frames_max = 160,
                                                             .over_max = 7,

@@ -5,7 +5,9 @@
 // first_cell_max_rise_m, then for sensors of up to 32 rings only and at a fixed curvature that
 // gave the HDL-32E's first cells, 2 m out, a tenth of the cap). The HDL-32E found no path from
 // starts beside the flank (seed 14 p3, seed 20 p11), the OS1-64 gave up goals beyond it (seed
-// 11 p1 after 24 m, p7 after 48 m).
+// 11 p1 after 24 m, p7 after 48 m). The VLP-16 lost seed 14 p3 to its own blind drops: started
+// on the flank, facing up it, the cells it backed over were marked as the foot of a drop from its
+// next poses and wedged it (NavigateConfig::driven_clears_guesses).
 #include <cstdio>
 #include <string>
 
@@ -25,13 +27,14 @@ struct Case {
   double max_ratio;  ///< the driven length over the truth plan's, as measured plus a margin
 };
 
-void expect_arrive(const SensorModel& sensor, const Case& c) {
+void expect_arrive(const SensorModel& sensor, const Case& c,
+                   const loops::NavigateConfig& config = {}) {
   const sim::Scene scene = sim::make_terrain_scene({}, c.seed);
   const std::string file = std::string(FIELDLIDAR_NAVIGATE_DATA) + "/navigate_pairs_terrain_seed" +
                            std::to_string(c.seed) + ".csv";
   for (const auto& p : loops::read_navigate_pairs(file)) {
     if (p.name != c.pair) continue;
-    loops::NavigateConfig cfg;
+    loops::NavigateConfig cfg = config;
     cfg.planner.time_budget_ms = 4000.0;  // the expansion budget, not the machine's load, rules
     const auto r = loops::run_navigate(scene, sensor, p.start, p.goal, cfg);
     std::printf("%s, seed %llu %s: %s (%s), ratio %.3f, %zu frames on impassable\n",
@@ -56,4 +59,22 @@ TEST(NavigateSensors, Hdl32eStartsBesideTheHillsFlank) {
 TEST(NavigateSensors, Os164ReachesGoalsBeyondTheHillsFlank) {
   for (const Case& c : {Case{11, "p1", 1.05}, Case{11, "p7", 1.05}})  // 0.988, 0.995
     expect_arrive(SensorModel::os1_64(), c);
+}
+
+// Without the rule the drive fails on 31 emergency stops 3.5 m from its start (measured).
+TEST(NavigateSensors, Vlp16BacksOverGroundItThenKnowsOnTheHillsFlank) {
+  expect_arrive(SensorModel::vlp16(), Case{14, "p3", 1.15});  // 1.125
+  const sim::Scene scene = sim::make_terrain_scene({}, 14);
+  const auto pairs = loops::read_navigate_pairs(std::string(FIELDLIDAR_NAVIGATE_DATA) +
+                                                "/navigate_pairs_terrain_seed14.csv");
+  for (const auto& p : pairs) {
+    if (p.name != "p3") continue;
+    loops::NavigateConfig cfg;
+    cfg.planner.time_budget_ms = 4000.0;
+    cfg.driven_clears_guesses = false;
+    const auto r = loops::run_navigate(scene, SensorModel::vlp16(), p.start, p.goal, cfg);
+    std::printf("vlp16, seed 14 p3, driven cells keep their guesses: %s (%s)\n",
+                loops::to_string(r.outcome), r.reason.c_str());
+    EXPECT_NE(r.outcome, loops::NavigateOutcome::kArrived);
+  }
 }

@@ -87,6 +87,13 @@ struct NavigateConfig {
   /// half-diagonal (0.55 m), half a cell's diagonal and 0.1 m, so that no mark lies under the
   /// robot as it turns in place.
   double blind_drop_clear_m = 1.0;
+  /// Ground the robot has driven over is no guess: the cells whose centres its footprint has
+  /// covered (by its own pose) carry no drop mark (mark_drop_bands, mark_blind_drops), whatever
+  /// later sweeps' shadows suggest; the footprint clearing of a costmap. Evidence (returns,
+  /// the tilt stop's felt cells) still blocks them. Found on seed 14 p3 (random pairs): started
+  /// on the hill's 20 deg east flank, the robot backed over cells that the blind-drop rule then
+  /// marked from its next poses, and 31 emergency stops wedged it between them.
+  bool driven_clears_guesses = true;
   /// Tilt stop: the robot's attitude (its IMU; here the chassis resting on the true ground)
   /// tilted more than this (deg) while driving is ground the map missed (a ditch's wall in the
   /// blind disk): the robot stops, the cells under the leading half of its footprint become

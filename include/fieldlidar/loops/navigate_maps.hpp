@@ -67,6 +67,8 @@ struct AreaGridRules {
   /// Where the sensor stood for earlier sweeps in the map (m; the approach's): the lower ground
   /// may be the shadow's end as one of them saw it, nearer than the robot's own lowest beam.
   std::span<const Eigen::Vector3d> earlier_sensors_m;
+  /// Cells the robot has driven over (non-zero; empty: none known): no drop mark stands there.
+  std::span<const std::uint8_t> driven;
 };
 
 /// How far from the sensor, in the map direction `u` (unit), its lowest beam meets the ground
@@ -155,6 +157,11 @@ std::vector<std::uint8_t> known_blocked(const Grid2D& grid);
 /// -1 for a part off the grid.
 std::vector<long> footprint_cells(const GridGeometry& geometry, const planning::Pose2& pose,
                                   const terrain::RobotConfig& robot);
+
+/// Sets `driven` (resized to the geometry's cells) on the cells whose centres lie within the
+/// robot's exact rectangle at `pose`: ground it stands on.
+void mark_driven(const GridGeometry& geometry, const planning::Pose2& pose,
+                 const terrain::RobotConfig& robot, std::vector<std::uint8_t>& driven);
 
 /// The free pose (PlanningMap::pose_free) nearest `goal` within `tolerance_m` of it, same
 /// heading: rings of 0.05 m steps, 16 directions each; nullopt when there is none.
