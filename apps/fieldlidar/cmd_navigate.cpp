@@ -35,6 +35,7 @@ struct NavigateOptions {
   std::string sensor = "vlp16";
   std::uint64_t seed = 0, noise_seed = loops::NavigateConfig{}.sim_seed;
   double max_time_s = 0, replan_period_s = loops::NavigateConfig{}.replan_period_s;
+  double switch_gain = loops::NavigateConfig{}.replan_switch_gain;
   double speed_m_s = loops::NavigateConfig{}.follower.max_speed_m_s;
   int seen_no_ground_points = loops::NavigateConfig{}.seen_no_ground_points;
   double drop_band_max_m = loops::NavigateConfig{}.drop_band_max_m;
@@ -85,6 +86,7 @@ void run(const NavigateOptions& o) {
   if (!o.robot.empty()) cfg.fusion.layers.robot = terrain::load_robot_config(o.robot);
   cfg.max_time_s = o.max_time_s;
   cfg.replan_period_s = o.replan_period_s;
+  cfg.replan_switch_gain = o.switch_gain;
   cfg.follower.max_speed_m_s = o.speed_m_s;
   cfg.seen_no_ground_points = o.seen_no_ground_points;
   cfg.drop_band_max_m = o.drop_band_max_m;
@@ -327,6 +329,12 @@ void add_navigate_command(CLI::App& app) {
   cmd->add_option("--replan-period", o->replan_period_s, "Re-plan at least this often (s)")
       ->capture_default_str()
       ->check(real_above(0, 3600));
+  cmd->add_option("--switch-gain", o->switch_gain,
+                  "A periodic re-plan is taken only when it costs this share less than the rest "
+                  "of the current plan (blocked or costlier plans are re-planned as before); 0: "
+                  "always taken")
+      ->capture_default_str()
+      ->check(real_in(0, 0.99));
   cmd->add_option("--max-time", o->max_time_s,
                   "Simulated time limit per run (s); default 40 s + 4 x straight distance / speed")
       ->check(real_above(0, 86400));

@@ -80,6 +80,9 @@ NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
         fmt::format("navigate: control_period_s must be in (0, 1] (is {}), scan_period_s in "
                     "[control_period_s, 10] (is {}) and replan_period_s > 0 (is {})",
                     config.control_period_s, config.scan_period_s, config.replan_period_s));
+  if (!(config.replan_switch_gain >= 0.0 && config.replan_switch_gain < 1.0))
+    throw Error(fmt::format("navigate: replan_switch_gain must be in [0, 1) (is {})",
+                            config.replan_switch_gain));
   if (!(std::abs(config.lidar_pitch_deg) <= 30.0) || !(config.start_look_rad >= 0.0) ||
       !std::isfinite(config.start_look_rad) || !(config.look_yaw_rate_rad_s > 0.0))
     throw Error(fmt::format(

@@ -50,6 +50,9 @@ class Loop {
   /// After a successful plan of `length_m`: true when the robot holds to the current plan
   /// instead (the plan is recorded, not followed).
   bool hold_instead_of(double length_m);
+  /// A periodic re-plan's `candidate` is taken only when it costs less than the rest of the
+  /// current plan by NavigateConfig::replan_switch_gain: true when the robot keeps its plan.
+  bool keeps_its_plan(const planning::Path& candidate) const;
   /// The rest of held_ from the sample nearest the robot: its index, the first blocked sample
   /// after it (nullopt: none), and the length to that sample and to the end.
   struct HeldRest {

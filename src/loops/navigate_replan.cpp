@@ -46,6 +46,18 @@ std::string Loop::replan_trigger() {
   return "";
 }
 
+bool Loop::keeps_its_plan(const planning::Path& candidate) const {
+  if (!(cfg_.replan_switch_gain > 0) || !follower_.has_path()) return false;
+  const std::size_t k = follower_.index();
+  const auto rest = planning::path_step_costs(*check_map_, follower_.path(),
+                                              planner_cfg_.tau_weight, planner_cfg_.reverse_factor);
+  const auto next = planning::path_step_costs(*check_map_, candidate, planner_cfg_.tau_weight,
+                                              planner_cfg_.reverse_factor);
+  const double now = std::accumulate(rest.begin() + long(k) + 1, rest.end(), 0.0);
+  const double then = std::accumulate(next.begin(), next.end(), 0.0);
+  return std::isfinite(now) && then > (1.0 - cfg_.replan_switch_gain) * now;
+}
+
 bool Loop::start_creep() {
   const double length = cfg_.start_creep_m < 0 ? blind_radius_m_ : cfg_.start_creep_m;
   if (!(length > 0)) return false;
@@ -141,6 +153,10 @@ void Loop::plan(const std::string& trigger) {
   r_.plans.push_back(std::move(rec));
   if (r_.plans.size() > 1) ++r_.replans;
   if (p.ok() && hold_instead_of(planning::path_length_m(r_.plans.back().path))) return;
+  if (p.ok() && trigger == "period" && keeps_its_plan(p.path)) {
+    ++r_.plans_put_off;
+    return;
+  }
   if (p.ok()) {
     look_trip_ = false;
     step_costs_ = planning::path_step_costs(*check_map_, p.path, planner_cfg_.tau_weight,

@@ -96,6 +96,8 @@ TEST(Navigate, BadInputIsAnError) {
   rejected("tilt_stop_deg", [](loops::NavigateConfig& c) { c.tilt_stop_deg = 95.0; });
   rejected("guess_looks", [](loops::NavigateConfig& c) { c.guess_looks = -1; });
   rejected("guess_look_margin_m", [](loops::NavigateConfig& c) { c.guess_look_margin_m = NAN; });
+  rejected("replan_switch_gain", [](loops::NavigateConfig& c) { c.replan_switch_gain = 1.0; });
+  rejected("replan_switch_gain", [](loops::NavigateConfig& c) { c.replan_switch_gain = NAN; });
 }
 
 // A goal whose footprint a blocked cell (an obstacle's halo) touches is moved to the nearest free
@@ -181,7 +183,8 @@ TEST(Navigate, StartLookTurnsInPlaceBeforeTheFirstPlan) {
 // with them, both drives measure 1.034 again; and the lone ring's level plane
 // (TraversabilityConfig::min_plane_spread_m), with which the flank reads passable from afar as
 // well (both drives 1.060), and the levelling the navigate loop turns off
-// (navigate_fusion_config: both drives 1.038 without it).
+// (navigate_fusion_config: both drives 1.038 without it); and every periodic plan is taken
+// (NavigateConfig::replan_switch_gain: without the hold 1.034 when they are put off).
 TEST(Navigate, DetourHoldWaitsForABlockSeenFromAfar) {
   const sim::Scene scene = sim::make_terrain_scene({}, 0);
   const planning::Pose2 start{31, 32, 0}, goal{57, 32, 1.5708};
@@ -191,6 +194,7 @@ TEST(Navigate, DetourHoldWaitsForABlockSeenFromAfar) {
   cfg.drop_band_max_m = 0.0;
   cfg.fusion.layers.min_plane_spread_m = 0.0;
   cfg.fusion.layers.ground.levelling.enabled = true;
+  cfg.replan_switch_gain = 0.0;
   const auto held = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
   cfg.detour_hold_ratio = 0.0;
   const auto swapped = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);

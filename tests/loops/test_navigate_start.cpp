@@ -217,11 +217,14 @@ TEST(NavigateStart, TiltStopEndsADriveIntoAHiddenTrench) {
 // lower than the robot: blind drops mark the band, which leaves the lane too narrow for a turn.
 // Reported unreachable without a look; with one (NavigateConfig::guess_looks) the robot goes to
 // see the band from beyond its blind disk, finds the turn and arrives, on no truth-impassable
-// cell either way.
+// cell either way. Ground driven over keeps its guesses here (NavigateConfig::
+// driven_clears_guesses false): with the cells it has driven over taken as no guess, the robot
+// turns in the lane without a look (13.3 m driven, measured).
 TEST(NavigateStart, LookAtBlindDropsBeforeGivingUp) {
   const sim::Scene scene = lane_beside_ditch();
   const Pose2 start{10, 10, 0}, goal{4, 10, std::numbers::pi};
   loops::NavigateConfig cfg;
+  cfg.driven_clears_guesses = false;
   for (int looks : {0, cfg.guess_looks}) {
     cfg.guess_looks = looks;
     const auto r = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
@@ -236,7 +239,7 @@ TEST(NavigateStart, LookAtBlindDropsBeforeGivingUp) {
     } else {
       EXPECT_EQ(r.outcome, loops::NavigateOutcome::kArrived) << r.reason;
       EXPECT_GE(r.guess_looks, 1);
-      EXPECT_LT(r.driven_length_m, 30.0);  // 25.7 m measured (the truth plan: 7.2 m)
+      EXPECT_LT(r.driven_length_m, 30.0);  // 19.3 m measured (25.7 m when first written)
     }
   }
 }

@@ -180,6 +180,7 @@ nlohmann::json navigate_summary(const loops::NavigateResult& r) {
   j["tilt_stops"] = r.tilt_stops;
   j["guess_looks"] = r.guess_looks;
   j["escapes"] = r.escapes;
+  j["plans_put_off"] = r.plans_put_off;
   j["approach_sweeps"] = r.approach_sweeps;
   j["blind_radius_m"] = r.blind_radius_m;
   j["scans"] = r.scans;

@@ -211,6 +211,11 @@ struct NavigateConfig {
   double scan_period_s = 0.5;     ///< one sweep is mapped this often (the sensor spins at 10 Hz)
   double replan_period_s = 5.0;   ///< re-plan at least this often (s)
   double replan_cost_rise = 0.1;  ///< re-plan when the rest of the path costs this share more
+  /// A periodic re-plan replaces the current plan only when it costs this share less than the
+  /// rest of it on the map of the moment (both costed as the planner costs a path's cells and
+  /// reversing): two ways of about the same cost are not swapped back and forth. Blocked or
+  /// costlier plans are re-planned as before. 0: every periodic plan is taken.
+  double replan_switch_gain = 0.05;
   /// Detour hold: when the map blocks the current plan more than hold_min_ahead_m ahead and
   /// the new plan is longer than detour_hold_ratio times the rest of the current one, the robot
   /// keeps to the current plan up to hold_stop_m before the blocked pose and re-plans on every
@@ -288,6 +293,8 @@ struct NavigateResult {
   int tilt_stops = 0;   ///< safety stops on a tilt over NavigateConfig::tilt_stop_deg
   int guess_looks = 0;  ///< looks at guessed drops before giving up (NavigateConfig::guess_looks)
   int escapes = 0;      ///< plans that began with an escape (NavigateConfig::escape_max_m)
+  /// Periodic re-plans another way round not taken (NavigateConfig::replan_switch_gain).
+  int plans_put_off = 0;
   PoseSource pose_source = PoseSource::kTruth;
   double max_pose_error_m = 0;            ///< largest distance of the robot's pose from the truth
   std::size_t odometry_unregistered = 0;  ///< sweeps the odometry kept at its motion prior
