@@ -293,7 +293,7 @@ struct NavigateResult {
   int tilt_stops = 0;   ///< safety stops on a tilt over NavigateConfig::tilt_stop_deg
   int guess_looks = 0;  ///< looks at guessed drops before giving up (NavigateConfig::guess_looks)
   int escapes = 0;      ///< plans that began with an escape (NavigateConfig::escape_max_m)
-  /// Periodic re-plans another way round not taken (NavigateConfig::replan_switch_gain).
+  /// Periodic re-plans not taken, no cheaper than NavigateConfig::replan_switch_gain asks.
   int plans_put_off = 0;
   PoseSource pose_source = PoseSource::kTruth;
   double max_pose_error_m = 0;            ///< largest distance of the robot's pose from the truth
