@@ -1,6 +1,6 @@
-// The navigate loop with LiDARs other than the seed's VLP-16 (`fieldlidar navigate --sensor`), on
-// random pairs of the terrain scenes (data/navigate_pairs_terrain_seed*.csv) that they lost to
-// the hill's flank: its first ground seen from the start or on the way, above the plane of the
+// The navigate loop on random pairs of the terrain scenes (data/navigate_pairs_terrain_seed*.csv)
+// that a LiDAR lost to the hill's flank. Other LiDARs than the seed's VLP-16 (`fieldlidar
+// navigate --sensor`): its first ground seen from the start or on the way, above the plane of the
 // flatter ground round the robot, was not taken for ground (RobustGroundConfig::
 // first_cell_max_rise_m, then for sensors of up to 32 rings only and at a fixed curvature that
 // gave the HDL-32E's first cells, 2 m out, a tenth of the cap). The HDL-32E found no path from
