@@ -56,8 +56,7 @@ bool Loop::follow_held(std::size_t from, std::optional<std::size_t> block) {
   }
   if (end < from + 3) return false;
   planning::Path rest(held_.begin() + long(from), held_.begin() + long(end) + 1);
-  step_costs_ = planning::path_step_costs(*check_map_, rest, planner_cfg_.tau_weight,
-                                          planner_cfg_.reverse_factor);
+  step_costs_ = step_costs(rest);
   follower_.set_path(std::move(rest));
   state_ = NavigateState::kDriving;
   return true;

@@ -101,8 +101,7 @@ bool Loop::look_at_guesses(const Pose2& target) {
     for (std::size_t i : guesses) looked_[i] = 1;  // seen from there, or given up on
     r_.plans.push_back({t_, me(), p.status, "look", p.path, planning::path_length_m(p.path),
                         p.search_ms, p.expansions});
-    step_costs_ = planning::path_step_costs(*check_map_, p.path, planner_cfg_.tau_weight,
-                                            planner_cfg_.reverse_factor);
+    step_costs_ = step_costs(p.path);
     follower_.set_path(std::move(p.path));
     look_trip_ = true;
     held_.clear();  // the look replaces a detour put off

@@ -53,6 +53,10 @@ class Loop {
   /// A periodic re-plan's `candidate` is taken only when it costs less than the rest of the
   /// current plan by NavigateConfig::replan_switch_gain: true when the robot keeps its plan.
   bool keeps_its_plan(const planning::Path& candidate) const;
+  /// The planner's cost of each step of `path` on the map of the moment (check_map_).
+  std::vector<double> step_costs(const planning::Path& path) const;
+  /// What the rest of the followed plan (past the follower's index) costs on that map.
+  double rest_cost() const;
   /// The rest of held_ from the sample nearest the robot: its index, the first blocked sample
   /// after it (nullopt: none), and the length to that sample and to the end.
   struct HeldRest {

@@ -26,6 +26,16 @@ void Loop::score_truth_plan() {
   }
 }
 
+std::vector<double> Loop::step_costs(const planning::Path& path) const {
+  return planning::path_step_costs(*check_map_, path, planner_cfg_.tau_weight,
+                                   planner_cfg_.reverse_factor);
+}
+
+double Loop::rest_cost() const {
+  const auto now = step_costs(follower_.path());
+  return std::accumulate(now.begin() + long(follower_.index()) + 1, now.end(), 0.0);
+}
+
 std::string Loop::replan_trigger() {
   if (looking()) return "";  // the first plan waits for the start look
   if (!pending_.empty()) return std::exchange(pending_, "");
@@ -34,12 +44,9 @@ std::string Loop::replan_trigger() {
   if (map_updated_) {
     const std::size_t k = follower_.index();
     if (planning::first_blocked_sample(*check_map_, follower_.path(), k)) return "blocked";
-    const auto now = planning::path_step_costs(
-        *check_map_, follower_.path(), planner_cfg_.tau_weight, planner_cfg_.reverse_factor);
     const double before =
         std::accumulate(step_costs_.begin() + long(k) + 1, step_costs_.end(), 0.0);
-    const double after = std::accumulate(now.begin() + long(k) + 1, now.end(), 0.0);
-    if (after > (1.0 + cfg_.replan_cost_rise) * before + 1e-6 && !creeping_) return "cost";
+    if (rest_cost() > (1.0 + cfg_.replan_cost_rise) * before + 1e-6 && !creeping_) return "cost";
   }
   if (creeping_) return "";  // the creep runs its course unless blocked
   if (t_ - last_plan_t_ >= cfg_.replan_period_s && map_updated_) return "period";
@@ -48,12 +55,8 @@ std::string Loop::replan_trigger() {
 
 bool Loop::keeps_its_plan(const planning::Path& candidate) const {
   if (!(cfg_.replan_switch_gain > 0) || !follower_.has_path()) return false;
-  const std::size_t k = follower_.index();
-  const auto rest = planning::path_step_costs(*check_map_, follower_.path(),
-                                              planner_cfg_.tau_weight, planner_cfg_.reverse_factor);
-  const auto next = planning::path_step_costs(*check_map_, candidate, planner_cfg_.tau_weight,
-                                              planner_cfg_.reverse_factor);
-  const double now = std::accumulate(rest.begin() + long(k) + 1, rest.end(), 0.0);
+  const double now = rest_cost();
+  const auto next = step_costs(candidate);
   const double then = std::accumulate(next.begin(), next.end(), 0.0);
   return std::isfinite(now) && then > (1.0 - cfg_.replan_switch_gain) * now;
 }
@@ -73,8 +76,7 @@ bool Loop::start_creep() {
     PlanRecord rec{
         t_, me(), PlanStatus::kSuccess, "start_creep", path, planning::path_length_m(path), 0.0, 0};
     r_.plans.push_back(std::move(rec));
-    step_costs_ = planning::path_step_costs(*check_map_, path, planner_cfg_.tau_weight,
-                                            planner_cfg_.reverse_factor);
+    step_costs_ = step_costs(path);
     follower_.set_path(std::move(path));
     last_plan_t_ = t_;
     creeping_ = true;
@@ -159,8 +161,7 @@ void Loop::plan(const std::string& trigger) {
   }
   if (p.ok()) {
     look_trip_ = false;
-    step_costs_ = planning::path_step_costs(*check_map_, p.path, planner_cfg_.tau_weight,
-                                            planner_cfg_.reverse_factor);
+    step_costs_ = step_costs(p.path);
     follower_.set_path(std::move(p.path));
     unreachable_votes_ = planner_failures_ = 0;
     state_ = NavigateState::kDriving;
