@@ -71,6 +71,8 @@ def summary(rows):
     touched = [r for r in rows if int(r["frames_on_impassable"]) > 0]
     deep = [r for r in touched if float(r["max_impassable_depth_m"]) >= 0.1]
     near = [r for r in touched if r["first_touch_m"] <= r["blind_radius_m"]]
+    # the footprint on an obstacle's disc itself, not only on a cell it reaches into
+    contact = [r for r in touched if int(r.get("frames_on_obstacles") or 0) > 0]
     blind = max((r["blind_radius_m"] for r in rows), default=0.0)
     sensor = rows[0]["sensor"] if rows else "?"
     lines = [
@@ -89,6 +91,11 @@ def summary(rows):
         f"  (frames/deepest m@where first touched, m from the start) {len(near)} of them first "
         f"within {blind:.1f} m of their start, in the start's blind disk (a level {sensor} on "
         f"the 1.2 m mast sees no ground nearer; the approach's sweeps see part of it)",
+        f"  {len(contact)} of them with the footprint on an obstacle's disc itself (a rock, "
+        f"bush or trunk; the rest on cells a disc reaches into, or on pits' and slopes' walls): "
+        + " ".join(f"{name(r)}:{r['frames_on_obstacles']}/{float(r['min_obstacle_gap_m']):.2f}"
+                   for r in contact)
+        + " (frames on it/least gap m)",
         f"  {sum(r['outcome'] == 'unreachable' for r in unreach)} of {len(unreach)} goals the "
         f"truth plan does not reach reported unreachable",
     ]

@@ -71,11 +71,13 @@ loops::NavigatePair default_pair(const sim::Scene& scene) {
 
 std::string row_text(const loops::NavigatePair& p, const loops::NavigateResult& r) {
   return fmt::format(
-      "{:<14} {:<11} {:>8.1f} {:>8.1f} {:>6} {:>6} {:>6} {:>6.2f} {:>7.1f} {:>7.1f}  {}", p.name,
-      loops::to_string(r.outcome), r.driven_length_m,
+      "{:<14} {:<11} {:>8.1f} {:>8.1f} {:>6} {:>6} {:>6} {:>6.2f} {:>6} {:>6.2f} {:>7.1f} "
+      "{:>7.1f}  {}",
+      p.name, loops::to_string(r.outcome), r.driven_length_m,
       std::isfinite(r.truth_length_m) ? r.truth_length_m : 0.0,
       std::isfinite(r.length_ratio) ? fmt::format("{:.3f}", r.length_ratio) : "-", r.replans,
-      r.frames_on_impassable, r.max_impassable_depth_m, r.duration_s, r.wall_s, r.reason);
+      r.frames_on_impassable, r.max_impassable_depth_m, r.frames_on_obstacles, r.min_obstacle_gap_m,
+      r.duration_s, r.wall_s, r.reason);
 }
 
 void run(const NavigateOptions& o) {
@@ -134,12 +136,13 @@ void run(const NavigateOptions& o) {
   for (const auto& f : files)
     if (fs::exists(f) && !o.force)
       throw Error("navigate: " + f.string() + " exists (use --force to replace it)");
-  const std::string header = fmt::format(
-      "{:<14} {:<11} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6} {:>7} {:>7}  {}", "pair", "outcome",
-      "driven_m", "truth_m", "ratio", "replan", "imp_fr", "depth", "sim_s", "wall_s", "reason");
+  const std::string header =
+      fmt::format("{:<14} {:<11} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>7}  {}",
+                  "pair", "outcome", "driven_m", "truth_m", "ratio", "replan", "imp_fr", "depth",
+                  "obs_fr", "gap_m", "sim_s", "wall_s", "reason");
   std::string table_csv =
       "pair,expect,outcome,driven_m,truth_plan_m,ratio,replans,frames_on_impassable,"
-      "max_impassable_depth_m,sim_s,wall_s,reason\n";
+      "max_impassable_depth_m,frames_on_obstacles,min_obstacle_gap_m,sim_s,wall_s,reason\n";
   std::vector<std::string> lines;
   NavigateTally tally;
   int mismatches = 0;
@@ -180,10 +183,11 @@ void run(const NavigateOptions& o) {
     mismatches += mismatch;
     lines.push_back(row_text(p, r) + (mismatch ? "  (expected " + p.expect + ")" : ""));
     fmt::print(stderr, "  {}\n", lines.back());
-    table_csv += fmt::format("{},{},{},{:.2f},{:.2f},{:.4f},{},{},{:.2f},{:.1f},{:.1f},\"{}\"\n",
-                             p.name, p.expect, loops::to_string(r.outcome), r.driven_length_m,
-                             r.truth_length_m, r.length_ratio, r.replans, r.frames_on_impassable,
-                             r.max_impassable_depth_m, r.duration_s, r.wall_s, r.reason);
+    table_csv += fmt::format(
+        "{},{},{},{:.2f},{:.2f},{:.4f},{},{},{:.2f},{},{:.2f},{:.1f},{:.1f},\"{}\"\n", p.name,
+        p.expect, loops::to_string(r.outcome), r.driven_length_m, r.truth_length_m, r.length_ratio,
+        r.replans, r.frames_on_impassable, r.max_impassable_depth_m, r.frames_on_obstacles,
+        r.min_obstacle_gap_m, r.duration_s, r.wall_s, r.reason);
   }
   if (many) io::write_file_atomic(out / "pairs.csv", table_csv, o.force);
   fmt::print("{}\n", header);

@@ -90,6 +90,9 @@ class Loop {
   /// The footprint at `pose`, shrunk by `shrink_m` on every side, overlaps a truth-impassable
   /// cell (or leaves the area).
   bool on_truth_impassable(const Pose2& pose, double shrink_m = 0.0) const;
+  /// The gap (m) between the footprint at `pose` and the nearest obstacle disc the truth counts
+  /// (negative: overlapping; NavigateResult::min_obstacle_gap_m).
+  double obstacle_gap_m(const Pose2& pose) const;
   /// NavigateResult::max_impassable_depth_m at a pose whose footprint is on a truth-impassable
   /// cell (on_truth_impassable).
   double truth_impassable_depth_m(const Pose2& pose) const;

@@ -130,6 +130,9 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
     r_.frames_on_impassable += row.footprint_on_impassable;
     if (row.footprint_on_impassable) row.impassable_depth_m = truth_impassable_depth_m(pose_);
     r_.max_impassable_depth_m = std::max(r_.max_impassable_depth_m, row.impassable_depth_m);
+    const double gap = obstacle_gap_m(pose_);
+    r_.frames_on_obstacles += gap < 0.0;
+    r_.min_obstacle_gap_m = std::min(r_.min_obstacle_gap_m, gap);
     row.state = state_;
     row.replans = r_.replans;
     r_.rows.push_back(row);

@@ -119,13 +119,15 @@ TEST(CliNavigate, PairsAreTallied) {
   EXPECT_TRUE(fs::exists(dir / "nav" / "on_a_rock" / "summary.json"));
   EXPECT_NE(slurp(dir / "nav" / "pairs.csv").find("on_a_rock,unreachable,unreachable"),
             std::string::npos);
-  EXPECT_NE(slurp(dir / "nav" / "pairs.csv").find(",max_impassable_depth_m,"), std::string::npos);
+  EXPECT_NE(slurp(dir / "nav" / "pairs.csv")
+                .find(",max_impassable_depth_m,frames_on_obstacles,min_obstacle_gap_m,"),
+            std::string::npos);
   EXPECT_NE(r.output.find("2 pairs: 1 of 1 goals the truth plan reaches arrived (1 within 1.15"),
             std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("0 drives with the footprint on truth-impassable cells (0 frames; 0 "
-                          "reaching 0.10 m or more into such a cell); 1 of 1 goals it cannot "
-                          "reach reported unreachable"),
+                          "reaching 0.10 m or more into such a cell; 0 meeting an obstacle "
+                          "itself); 1 of 1 goals it cannot reach reported unreachable"),
             std::string::npos)
       << r.output;
 }

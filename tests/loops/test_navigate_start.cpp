@@ -113,9 +113,10 @@ TEST(NavigateStart, ApproachSweepsShowARockInTheBlindDisk) {
     const auto r = loops::run_navigate(scene, SensorModel::vlp16(), start, goal, cfg);
     std::printf(
         "approach %.1f m: %s (%s), %zu approach sweeps, ratio %.3f, %zu frames on "
-        "impassable (%.2f m deep), %.1f s wall\n",
+        "impassable (%.2f m deep), %zu on the rock (least gap %.2f m), %.1f s wall\n",
         approach, loops::to_string(r.outcome), r.reason.c_str(), r.approach_sweeps, r.length_ratio,
-        r.frames_on_impassable, r.max_impassable_depth_m, r.wall_s);
+        r.frames_on_impassable, r.max_impassable_depth_m, r.frames_on_obstacles,
+        r.min_obstacle_gap_m, r.wall_s);
     EXPECT_EQ(r.max_impassable_depth_m > 0.0, r.frames_on_impassable > 0u);
     double deepest_row = 0.0;  // the log's rows carry the depth of each period
     for (const auto& row : r.rows) {
@@ -128,6 +129,8 @@ TEST(NavigateStart, ApproachSweepsShowARockInTheBlindDisk) {
     if (approach == 0.0) {
       EXPECT_EQ(r.approach_sweeps, 0u);
       EXPECT_GT(r.frames_on_impassable, 0u);
+      EXPECT_GT(r.frames_on_obstacles, 0u);  // on the rock itself, not only on its cells
+      EXPECT_LT(r.min_obstacle_gap_m, 0.0);
       // Across the rock: its cells reach well into the footprint (at most its half width).
       EXPECT_GE(r.max_impassable_depth_m, 0.1);
       EXPECT_LE(r.max_impassable_depth_m, 0.29);
@@ -135,6 +138,8 @@ TEST(NavigateStart, ApproachSweepsShowARockInTheBlindDisk) {
       EXPECT_EQ(r.approach_sweeps, 4u);
       EXPECT_EQ(r.outcome, loops::NavigateOutcome::kArrived) << r.reason;
       EXPECT_EQ(r.frames_on_impassable, 0u);
+      EXPECT_EQ(r.frames_on_obstacles, 0u);
+      EXPECT_GT(r.min_obstacle_gap_m, 0.0);
       EXPECT_LE(r.length_ratio, 1.15);
     }
   }

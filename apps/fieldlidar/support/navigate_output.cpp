@@ -174,6 +174,8 @@ nlohmann::json navigate_summary(const loops::NavigateResult& r) {
   j["frames"] = r.rows.size();
   j["frames_on_impassable"] = r.frames_on_impassable;
   j["max_impassable_depth_m"] = r.max_impassable_depth_m;
+  j["frames_on_obstacles"] = r.frames_on_obstacles;
+  j["min_obstacle_gap_m"] = number_or_null(r.min_obstacle_gap_m);
   j["plans"] = r.plans.size();
   j["replans"] = r.replans;
   j["safety_stops"] = r.safety_stops;

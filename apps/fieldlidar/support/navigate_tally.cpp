@@ -12,6 +12,7 @@ void NavigateTally::add(const loops::NavigateResult& r) {
   touching_ += r.frames_on_impassable > 0;
   frames_ += r.frames_on_impassable;
   deep_ += r.max_impassable_depth_m >= kDeep_m;
+  contact_ += r.frames_on_obstacles > 0;
   if (r.truth_status != planning::PlanStatus::kSuccess) {
     ++unreachable_;
     said_unreachable_ += r.outcome == loops::NavigateOutcome::kUnreachable;
@@ -33,8 +34,8 @@ std::string NavigateTally::text() const {
                      ratio_bound_, ratio_sum_ / double(arrived_), ratio_max_);
   s += fmt::format(
       "; {} drives with the footprint on truth-impassable cells ({} frames; {} reaching {:.2f} m "
-      "or more into such a cell)",
-      touching_, frames_, deep_, kDeep_m);
+      "or more into such a cell; {} meeting an obstacle itself)",
+      touching_, frames_, deep_, kDeep_m, contact_);
   s += fmt::format("; {} of {} goals it cannot reach reported unreachable", said_unreachable_,
                    unreachable_);
   return s;

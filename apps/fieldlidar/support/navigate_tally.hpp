@@ -18,14 +18,15 @@ class NavigateTally {
   void add(const loops::NavigateResult& r);
   /// E.g. "12 pairs: 9 of 9 goals the truth plan reaches arrived (8 within 1.15 x its length,
   /// mean 1.062, largest 1.168); 0 drives with the footprint on truth-impassable cells (0
-  /// frames; 0 reaching 0.10 m or more into such a cell); 3 of 3 goals it cannot reach reported
-  /// unreachable".
+  /// frames; 0 reaching 0.10 m or more into such a cell; 0 meeting an obstacle itself); 3 of 3
+  /// goals it cannot reach reported unreachable".
   std::string text() const;
 
  private:
   double ratio_bound_;
   std::size_t pairs_ = 0, reachable_ = 0, arrived_ = 0, within_ = 0;
   std::size_t unreachable_ = 0, said_unreachable_ = 0, touching_ = 0, frames_ = 0, deep_ = 0;
+  std::size_t contact_ = 0;  ///< drives whose footprint met an obstacle's disc itself
   /// A drive whose footprint reached this far into a truth-impassable cell (m) did more than
   /// brush the cell's edge (NavigateResult::max_impassable_depth_m).
   static constexpr double kDeep_m = 0.1;

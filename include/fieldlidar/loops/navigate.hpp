@@ -288,6 +288,13 @@ struct NavigateResult {
   /// every side still overlaps such a cell. A few cm is the footprint brushing a cell whose
   /// danger (a pit's wall, a rock's base) may lie anywhere in its 0.5 m.
   double max_impassable_depth_m = 0;
+  /// Control periods in which the footprint overlaps an obstacle itself (the disc of a rock,
+  /// bush or trunk of the scene that the truth counts: Scene::terrain_truth), not only a cell it
+  /// reaches into: a physical contact. Ground (a pit's wall, a ditch, a slope) is not an obstacle.
+  std::size_t frames_on_obstacles = 0;
+  /// The least gap between the footprint and those discs over the drive (m; negative: how deep
+  /// one reached into the footprint; infinite when the scene has none).
+  double min_obstacle_gap_m = INFINITY;
   int replans = 0;  ///< plans after the first
   int safety_stops = 0;
   int tilt_stops = 0;   ///< safety stops on a tilt over NavigateConfig::tilt_stop_deg
