@@ -96,6 +96,9 @@ def summary(rows):
         + " ".join(f"{name(r)}:{r['frames_on_obstacles']}/{float(r['min_obstacle_gap_m']):.2f}"
                    for r in contact)
         + " (frames on it/least gap m)",
+        f"  chassis tilted over the robot's 25 deg (a wheel down a wall or a step): "
+        + " ".join(f"{name(r)}:{float(r['max_tilt_deg']):.0f}" for r in rows
+                   if float(r.get("max_tilt_deg") or 0) > 25.0),
         f"  {sum(r['outcome'] == 'unreachable' for r in unreach)} of {len(unreach)} goals the "
         f"truth plan does not reach reported unreachable",
     ]

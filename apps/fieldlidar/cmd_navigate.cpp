@@ -142,7 +142,8 @@ void run(const NavigateOptions& o) {
                   "obs_fr", "gap_m", "sim_s", "wall_s", "reason");
   std::string table_csv =
       "pair,expect,outcome,driven_m,truth_plan_m,ratio,replans,frames_on_impassable,"
-      "max_impassable_depth_m,frames_on_obstacles,min_obstacle_gap_m,sim_s,wall_s,reason\n";
+      "max_impassable_depth_m,frames_on_obstacles,min_obstacle_gap_m,max_tilt_deg,sim_s,wall_s,"
+      "reason\n";
   std::vector<std::string> lines;
   NavigateTally tally;
   int mismatches = 0;
@@ -184,10 +185,11 @@ void run(const NavigateOptions& o) {
     lines.push_back(row_text(p, r) + (mismatch ? "  (expected " + p.expect + ")" : ""));
     fmt::print(stderr, "  {}\n", lines.back());
     table_csv += fmt::format(
-        "{},{},{},{:.2f},{:.2f},{:.4f},{},{},{:.2f},{},{:.2f},{:.1f},{:.1f},\"{}\"\n", p.name,
-        p.expect, loops::to_string(r.outcome), r.driven_length_m, r.truth_length_m, r.length_ratio,
-        r.replans, r.frames_on_impassable, r.max_impassable_depth_m, r.frames_on_obstacles,
-        r.min_obstacle_gap_m, r.duration_s, r.wall_s, r.reason);
+        "{},{},{},{:.2f},{:.2f},{:.4f},{},{},{:.2f},{},{:.2f},{:.1f},{:.1f},{:.1f},\"{}\"\n",
+        p.name, p.expect, loops::to_string(r.outcome), r.driven_length_m, r.truth_length_m,
+        r.length_ratio, r.replans, r.frames_on_impassable, r.max_impassable_depth_m,
+        r.frames_on_obstacles, r.min_obstacle_gap_m, r.max_tilt_deg, r.duration_s, r.wall_s,
+        r.reason);
   }
   if (many) io::write_file_atomic(out / "pairs.csv", table_csv, o.force);
   fmt::print("{}\n", header);

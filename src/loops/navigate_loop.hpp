@@ -78,6 +78,8 @@ class Loop {
   /// than that and more than at its last driving step; the cells under the leading half of its
   /// footprint are then felt_ and the map is updated at once.
   bool tilt_stop(double v_m_s);
+  /// The chassis' tilt (rad) resting on the true ground at `pose` (what its IMU reads).
+  double chassis_tilt_rad(const Pose2& pose) const;
   /// The guessed drops (drop_marks_, not yet looked_ at) under the footprint of the plan to
   /// `target` found with them taken as unknown; empty when there is no such plan.
   std::vector<std::size_t> guesses_in_the_way(const Pose2& target) const;

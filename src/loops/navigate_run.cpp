@@ -133,6 +133,7 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
     const double gap = obstacle_gap_m(pose_);
     r_.frames_on_obstacles += gap < 0.0;
     r_.min_obstacle_gap_m = std::min(r_.min_obstacle_gap_m, gap);
+    r_.max_tilt_deg = std::max(r_.max_tilt_deg, chassis_tilt_rad(pose_) * 180.0 / M_PI);
     row.state = state_;
     row.replans = r_.replans;
     r_.rows.push_back(row);

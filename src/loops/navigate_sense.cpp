@@ -84,12 +84,16 @@ void Loop::use_grid() {
   check_map_ = std::make_unique<planning::PlanningMap>(grid_, robot_, planner_cfg_.map);
 }
 
+double Loop::chassis_tilt_rad(const Pose2& pose) const {
+  const Eigen::Vector3d up =
+      sim::pose_on_ground(scene_, {pose.x_m, pose.y_m}, pose.yaw_rad).rotation() *
+      Eigen::Vector3d::UnitZ();
+  return std::acos(std::clamp(up.z(), -1.0, 1.0));
+}
+
 bool Loop::tilt_stop(double v_m_s) {
   if (!(cfg_.tilt_stop_deg > 0) || std::abs(v_m_s) < 1e-6) return false;
-  const Eigen::Vector3d up =
-      sim::pose_on_ground(scene_, {pose_.x_m, pose_.y_m}, pose_.yaw_rad).rotation() *
-      Eigen::Vector3d::UnitZ();
-  const double tilt = std::acos(std::clamp(up.z(), -1.0, 1.0)), before = tilt_rad_;
+  const double tilt = chassis_tilt_rad(pose_), before = tilt_rad_;
   tilt_rad_ = tilt;
   // Over the limit and tilting further: a move that levels the robot (backing out) goes on.
   if (!(tilt > cfg_.tilt_stop_deg * M_PI / 180.0) || !(tilt > before + 1e-3)) return false;

@@ -176,6 +176,7 @@ nlohmann::json navigate_summary(const loops::NavigateResult& r) {
   j["max_impassable_depth_m"] = r.max_impassable_depth_m;
   j["frames_on_obstacles"] = r.frames_on_obstacles;
   j["min_obstacle_gap_m"] = number_or_null(r.min_obstacle_gap_m);
+  j["max_tilt_deg"] = r.max_tilt_deg;
   j["plans"] = r.plans.size();
   j["replans"] = r.replans;
   j["safety_stops"] = r.safety_stops;

@@ -295,6 +295,9 @@ struct NavigateResult {
   /// The least gap between the footprint and those discs over the drive (m; negative: how deep
   /// one reached into the footprint; infinite when the scene has none).
   double min_obstacle_gap_m = INFINITY;
+  /// The chassis' largest tilt over the drive (deg; resting on the true ground, as its IMU and
+  /// the tilt stop read it): beyond the robot's max_slope_deg a wheel went down a wall or a step.
+  double max_tilt_deg = 0;
   int replans = 0;  ///< plans after the first
   int safety_stops = 0;
   int tilt_stops = 0;   ///< safety stops on a tilt over NavigateConfig::tilt_stop_deg
