@@ -55,12 +55,14 @@ const char* to_string(NavigateState state) {
 std::string navigate_log_csv(const std::vector<NavigateLogRow>& rows) {
   std::string s =
       "t_s,x_m,y_m,yaw_rad,v_m_s,yaw_rate_rad_s,planned_length_m,cell_ix,cell_iy,"
-      "cell_passable_truth,footprint_on_impassable,impassable_depth_m,state,replans\n";
+      "cell_passable_truth,footprint_on_impassable,impassable_depth_m,obstacle_gap_m,tilt_deg,"
+      "state,replans\n";
   for (const auto& r : rows)
-    s += fmt::format("{:.2f},{:.4f},{:.4f},{:.5f},{:.3f},{:.4f},{:.2f},{},{},{},{},{:.2f},{},{}\n",
-                     r.t_s, r.x_m, r.y_m, r.yaw_rad, r.v_m_s, r.yaw_rate_rad_s, r.planned_length_m,
-                     r.cell_ix, r.cell_iy, r.cell_passable, int(r.footprint_on_impassable),
-                     r.impassable_depth_m, to_string(r.state), r.replans);
+    s += fmt::format(
+        "{:.2f},{:.4f},{:.4f},{:.5f},{:.3f},{:.4f},{:.2f},{},{},{},{},{:.2f},{:.2f},{:.1f},{},{}\n",
+        r.t_s, r.x_m, r.y_m, r.yaw_rad, r.v_m_s, r.yaw_rate_rad_s, r.planned_length_m, r.cell_ix,
+        r.cell_iy, r.cell_passable, int(r.footprint_on_impassable), r.impassable_depth_m,
+        r.obstacle_gap_m, r.tilt_deg, to_string(r.state), r.replans);
   return s;
 }
 

@@ -130,10 +130,12 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
     r_.frames_on_impassable += row.footprint_on_impassable;
     if (row.footprint_on_impassable) row.impassable_depth_m = truth_impassable_depth_m(pose_);
     r_.max_impassable_depth_m = std::max(r_.max_impassable_depth_m, row.impassable_depth_m);
-    const double gap = obstacle_gap_m(pose_);
-    r_.frames_on_obstacles += gap < 0.0;
-    r_.min_obstacle_gap_m = std::min(r_.min_obstacle_gap_m, gap);
-    r_.max_tilt_deg = std::max(r_.max_tilt_deg, chassis_tilt_rad(pose_) * 180.0 / M_PI);
+    row.obstacle_gap_m = obstacle_gap_m(pose_);
+    r_.frames_on_obstacles += row.obstacle_gap_m < 0.0;
+    r_.min_obstacle_gap_m = std::min(r_.min_obstacle_gap_m, row.obstacle_gap_m);
+    row.tilt_deg = chassis_tilt_rad(pose_) * 180.0 / M_PI;
+    row.tilted_over = row.tilt_deg > robot_.max_slope_deg;
+    r_.max_tilt_deg = std::max(r_.max_tilt_deg, row.tilt_deg);
     row.state = state_;
     row.replans = r_.replans;
     r_.rows.push_back(row);

@@ -50,6 +50,7 @@ TEST(CliNavigate, ShortDriveWritesItsFilesAndKeepsThem) {
   EXPECT_EQ(j["guess_looks"], 0);
   const std::string log = slurp(out / "navigate_log.csv");
   EXPECT_EQ(log.rfind("t_s,x_m,y_m,yaw_rad,", 0), 0u);
+  EXPECT_NE(log.find(",impassable_depth_m,obstacle_gap_m,tilt_deg,state,"), std::string::npos);
   EXPECT_NE(log.find(",arrived,"), std::string::npos);
   const auto g = nlohmann::json::parse(slurp(out / "plans.geojson"));
   EXPECT_EQ(g["type"], "FeatureCollection");

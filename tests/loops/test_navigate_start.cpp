@@ -118,14 +118,25 @@ TEST(NavigateStart, ApproachSweepsShowARockInTheBlindDisk) {
         r.frames_on_impassable, r.max_impassable_depth_m, r.frames_on_obstacles,
         r.min_obstacle_gap_m, r.wall_s);
     EXPECT_EQ(r.max_impassable_depth_m > 0.0, r.frames_on_impassable > 0u);
-    double deepest_row = 0.0;  // the log's rows carry the depth of each period
+    double deepest_row = 0.0;  // the log's rows carry the depth, gap and tilt of each period
+    double nearest_row = INFINITY, tilt_row = 0.0;
+    std::size_t on_rock_rows = 0;
     for (const auto& row : r.rows) {
       if (!row.footprint_on_impassable) {
         EXPECT_EQ(row.impassable_depth_m, 0.0);
+        EXPECT_GE(row.obstacle_gap_m, 0.0);  // on the rock is on its cells
       }
       deepest_row = std::max(deepest_row, row.impassable_depth_m);
+      nearest_row = std::min(nearest_row, row.obstacle_gap_m);
+      on_rock_rows += row.obstacle_gap_m < 0.0;
+      tilt_row = std::max(tilt_row, row.tilt_deg);
+      EXPECT_FALSE(row.tilted_over);  // flat ground
     }
     EXPECT_EQ(deepest_row, r.max_impassable_depth_m);
+    EXPECT_EQ(nearest_row, r.min_obstacle_gap_m);
+    EXPECT_EQ(on_rock_rows, r.frames_on_obstacles);
+    EXPECT_EQ(tilt_row, r.max_tilt_deg);
+    EXPECT_LT(r.max_tilt_deg, 1.0);
     if (approach == 0.0) {
       EXPECT_EQ(r.approach_sweeps, 0u);
       EXPECT_GT(r.frames_on_impassable, 0u);

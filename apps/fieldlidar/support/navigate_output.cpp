@@ -120,11 +120,16 @@ void draw(const loops::NavigateResult& r, const std::string& title, const fs::pa
   both(driven, {0.85, 0.1, 0.1}, 2.0);
   for (const auto& row : r.rows)
     if (row.footprint_on_impassable) canvas.dot({row.x_m, row.y_m}, {1.0, 0.0, 1.0}, 3.0);
+  for (const auto& row : r.rows)  // a rock met or a wheel down a wall: drawn over the cells
+    if (row.obstacle_gap_m < 0.0 || row.tilted_over)
+      canvas.dot({row.x_m, row.y_m}, {1.0, 0.55, 0.0}, 4.0);
   for (const Eigen::Vector2d& o : {Eigen::Vector2d(Eigen::Vector2d::Zero()), shift}) {
     canvas.arrow(Eigen::Vector2d(r.start.x_m, r.start.y_m) + o, r.start.yaw_rad, 1.5, {0, 0.5, 0});
     canvas.arrow(Eigen::Vector2d(r.goal.x_m, r.goal.y_m) + o, r.goal.yaw_rad, 1.5, {0.7, 0, 0});
   }
-  canvas.text(g.origin_m + Eigen::Vector2d(0.5, size.y() - 1.0), "truth", {0, 0, 0.6}, 16);
+  // Top right of the truth panel: the legend takes its top left.
+  canvas.text(g.origin_m + Eigen::Vector2d(size.x() - 4.0, size.y() - 1.0), "truth", {0, 0, 0.6},
+              16);
   canvas.text(right.origin_m + Eigen::Vector2d(0.5, size.y() - 1.0), "built by the robot",
               {0, 0, 0.6}, 16);
   canvas.title(title);
@@ -133,7 +138,8 @@ void draw(const loops::NavigateResult& r, const std::string& title, const fs::pa
                  {"plans on the built map", {0.55, 0.7, 1.0}},
                  {"plan on the truth", {0.1, 0.7, 0.1}},
                  {"driven", {0.85, 0.1, 0.1}},
-                 {"footprint on truth-impassable", {1.0, 0.0, 1.0}}});
+                 {"footprint on truth-impassable", {1.0, 0.0, 1.0}},
+                 {"on an obstacle, or tipped", {1.0, 0.55, 0.0}}});
   canvas.save_png(png, force);
 }
 

@@ -253,6 +253,11 @@ struct NavigateLogRow {
   int cell_passable = -1;                ///< its truth: 1 passable, 0 impassable, -1 off the map
   bool footprint_on_impassable = false;  ///< the exact footprint overlaps a truth-impassable cell
   double impassable_depth_m = 0;  ///< how far into it (NavigateResult::max_impassable_depth_m)
+  /// Gap between the footprint and the nearest obstacle's disc (m; negative: on it; infinite:
+  /// none; NavigateResult::min_obstacle_gap_m).
+  double obstacle_gap_m = INFINITY;
+  double tilt_deg = 0;       ///< the chassis' tilt (NavigateResult::max_tilt_deg)
+  bool tilted_over = false;  ///< tilt_deg beyond the robot's max_slope_deg
   NavigateState state = NavigateState::kPlanning;
   int replans = 0;
 };
