@@ -73,6 +73,7 @@ def summary(rows):
     near = [r for r in touched if r["first_touch_m"] <= r["blind_radius_m"]]
     # the footprint on an obstacle's disc itself, not only on a cell it reaches into
     contact = [r for r in touched if int(r.get("frames_on_obstacles") or 0) > 0]
+    tipped = [r for r in rows if float(r.get("max_tilt_deg") or 0) > 25.0]
     blind = max((r["blind_radius_m"] for r in rows), default=0.0)
     sensor = rows[0]["sensor"] if rows else "?"
     lines = [
@@ -93,12 +94,10 @@ def summary(rows):
         f"the 1.2 m mast sees no ground nearer; the approach's sweeps see part of it)",
         f"  {len(contact)} of them with the footprint on an obstacle's disc itself (a rock, "
         f"bush or trunk; the rest on cells a disc reaches into, or on pits' and slopes' walls): "
-        + " ".join(f"{name(r)}:{r['frames_on_obstacles']}/{float(r['min_obstacle_gap_m']):.2f}"
-                   for r in contact)
-        + " (frames on it/least gap m)",
+        + (" ".join(f"{name(r)}:{r['frames_on_obstacles']}/{float(r['min_obstacle_gap_m']):.2f}"
+                    for r in contact) + " (frames on it/least gap m)" if contact else "none"),
         f"  chassis tilted over the robot's 25 deg (a wheel down a wall or a step): "
-        + " ".join(f"{name(r)}:{float(r['max_tilt_deg']):.0f}" for r in rows
-                   if float(r.get("max_tilt_deg") or 0) > 25.0),
+        + (" ".join(f"{name(r)}:{float(r['max_tilt_deg']):.0f}" for r in tipped) or "none"),
         f"  {sum(r['outcome'] == 'unreachable' for r in unreach)} of {len(unreach)} goals the "
         f"truth plan does not reach reported unreachable",
     ]
