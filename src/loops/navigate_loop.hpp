@@ -74,10 +74,11 @@ class Loop {
   /// True when the next pose's footprint would enter a cell the map knows to be impassable that
   /// the robot does not already stand on.
   bool enters_known_blocked(const Pose2& next) const;
-  /// NavigateConfig::tilt_stop_deg: true when the robot, moving at `v_m_s`, stands tilted more
-  /// than that and more than at its last driving step; the cells under the leading half of its
+  /// NavigateConfig::tilt_stop_deg: true when the robot, moving at `v_m_s`, stands tilted
+  /// (`tilt_rad`, chassis_tilt_rad of its true pose) more than that and more than at its last
+  /// driving step; the cells under the leading half of its
   /// footprint are then felt_ and the map is updated at once.
-  bool tilt_stop(double v_m_s);
+  bool tilt_stop(double v_m_s, double tilt_rad);
   /// The chassis' tilt (rad) resting on the true ground at `pose` (what its IMU reads).
   double chassis_tilt_rad(const Pose2& pose) const;
   /// The guessed drops (drop_marks_, not yet looked_ at) under the footprint of the plan to

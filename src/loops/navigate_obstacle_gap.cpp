@@ -15,11 +15,8 @@ double Loop::obstacle_gap_m(const Pose2& pose) const {
   const double cs = std::cos(pose.yaw_rad), sn = std::sin(pose.yaw_rad);
   double gap = std::numeric_limits<double>::infinity();
   for (const auto& o : scene_.obstacles()) {
-    // The obstacles Scene::terrain_truth counts: reaching from the ground into the clearance.
-    if (!(o.bottom_above_ground_m < robot_.clearance_m) ||
-        !(o.top_above_ground_m > robot_.min_obstacle_height_m) ||
-        !(o.top_above_ground_m > o.bottom_above_ground_m))
-      continue;
+    // The obstacles Scene::terrain_truth counts.
+    if (!o.blocks(robot_.clearance_m, robot_.min_obstacle_height_m)) continue;
     const Eigen::Vector2d d = o.center_m - Eigen::Vector2d(pose.x_m, pose.y_m);
     const Eigen::Vector2d local(cs * d.x() + sn * d.y(), -sn * d.x() + cs * d.y());
     const Eigen::Vector2d edge(std::clamp(local.x(), -a, a), std::clamp(local.y(), -b, b));

@@ -91,7 +91,8 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
       }
     }
     Pose2 next = planning::integrate_unicycle(pose_, cmd.v_m_s, cmd.yaw_rate_rad_s, dt);
-    const bool tilted = !done_ && tilt_stop(v_);
+    const double tilt_rad = chassis_tilt_rad(pose_);  // the IMU's reading, stop and log alike
+    const bool tilted = !done_ && tilt_stop(v_, tilt_rad);
     if (tilted || (!done_ && enters_known_blocked(planning::integrate_unicycle(
                                  me(), cmd.v_m_s, cmd.yaw_rate_rad_s, dt)))) {
       cmd.v_m_s = cmd.yaw_rate_rad_s = 0.0;  // emergency stop, then re-plan
@@ -133,7 +134,7 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
     row.obstacle_gap_m = obstacle_gap_m(pose_);
     r_.frames_on_obstacles += row.obstacle_gap_m < 0.0;
     r_.min_obstacle_gap_m = std::min(r_.min_obstacle_gap_m, row.obstacle_gap_m);
-    row.tilt_deg = chassis_tilt_rad(pose_) * 180.0 / M_PI;
+    row.tilt_deg = tilt_rad * 180.0 / M_PI;
     row.tilted_over = row.tilt_deg > robot_.max_slope_deg;
     r_.max_tilt_deg = std::max(r_.max_tilt_deg, row.tilt_deg);
     row.state = state_;

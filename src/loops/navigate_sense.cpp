@@ -91,9 +91,9 @@ double Loop::chassis_tilt_rad(const Pose2& pose) const {
   return std::acos(std::clamp(up.z(), -1.0, 1.0));
 }
 
-bool Loop::tilt_stop(double v_m_s) {
+bool Loop::tilt_stop(double v_m_s, double tilt) {
   if (!(cfg_.tilt_stop_deg > 0) || std::abs(v_m_s) < 1e-6) return false;
-  const double tilt = chassis_tilt_rad(pose_), before = tilt_rad_;
+  const double before = tilt_rad_;
   tilt_rad_ = tilt;
   // Over the limit and tilting further: a move that levels the robot (backing out) goes on.
   if (!(tilt > cfg_.tilt_stop_deg * M_PI / 180.0) || !(tilt > before + 1e-3)) return false;

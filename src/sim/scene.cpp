@@ -103,10 +103,7 @@ Grid2D Scene::terrain_truth(const TerrainTruthConfig& config) const {
       step[geom.linear_index(ix, iy)] = std::max(0.f, float((hi - lo) - allowed));
     }
   for (const auto& o : obstacles_) {
-    const double height = o.top_above_ground_m - o.bottom_above_ground_m;
-    const bool blocks = o.bottom_above_ground_m < config.robot_clearance_m &&
-                        o.top_above_ground_m > config.min_obstacle_height_m && height > 0;
-    if (!blocks) continue;
+    if (!o.blocks(config.robot_clearance_m, config.min_obstacle_height_m)) continue;
     const double r = o.radius_m;
     for (int iy = 0; iy < geom.height; ++iy)
       for (int ix = 0; ix < geom.width; ++ix) {

@@ -47,6 +47,12 @@ struct ObstacleTruth {
   double bottom_above_ground_m = 0.0;
   double top_above_ground_m = 0.5;
   LabelClass label = LabelClass::kObstacle;
+  /// Blocks a robot of this clearance that drives over objects lower than min_height_m: it
+  /// reaches from below the clearance to above that height.
+  bool blocks(double clearance_m, double min_height_m) const {
+    return bottom_above_ground_m < clearance_m && top_above_ground_m > min_height_m &&
+           top_above_ground_m > bottom_above_ground_m;
+  }
 };
 
 /// How the terrain truth judges a cell: a robot with this clearance and slope/step limits.
