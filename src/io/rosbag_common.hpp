@@ -52,14 +52,25 @@ inline std::string list_topics(const std::vector<BagTopic>& topics) {
   return s.empty() ? "(none)" : s;
 }
 
-inline std::unique_ptr<rosbag::Bag> open_bag(const std::filesystem::path& path) {
+/// The largest uncompressed chunk of the bag at `path` (bytes; rosbag_chunks.cpp): no message is
+/// longer. The file's size for a version 1.2 bag; 0 when its index cannot be read.
+std::uint64_t bag_max_chunk_bytes(const std::filesystem::path& path);
+
+/// A bag open for reading, with the bound its messages' lengths are checked against.
+class CheckedBag : public rosbag::Bag {
+ public:
+  std::uint64_t max_message_bytes = 0;
+};
+
+inline std::unique_ptr<CheckedBag> open_bag(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path)) throw Error(path.string() + ": no such file");
-  auto bag = std::make_unique<rosbag::Bag>();
+  auto bag = std::make_unique<CheckedBag>();
   try {
     bag->open(path.string(), rosbag::bagmode::Read);
   } catch (const std::exception& e) {
     throw Error(path.string() + ": not a readable ROS1 bag (" + e.what() + ")");
   }
+  bag->max_message_bytes = bag_max_chunk_bytes(path);
   return bag;
 }
 
@@ -82,8 +93,17 @@ inline std::vector<BagTopic> topics_of(rosbag::Bag& bag) {
   return out;
 }
 
-inline void message_bytes(const rosbag::MessageInstance& m, std::vector<std::uint8_t>& buf) {
-  buf.resize(m.size());
+/// The serialized bytes of `m` from `bag`; a length beyond the bag's largest chunk (a damaged
+/// record) is a rosbag::BagFormatException, which the readers report with the topic and message.
+inline void message_bytes(const CheckedBag& bag, const rosbag::MessageInstance& m,
+                          std::vector<std::uint8_t>& buf) {
+  const std::uint32_t n = m.size();
+  if (n > bag.max_message_bytes)
+    throw rosbag::BagFormatException("its record claims " + std::to_string(n) +
+                                     " bytes, more than the bag's largest chunk holds (" +
+                                     std::to_string(bag.max_message_bytes) +
+                                     "): the bag is damaged");
+  buf.resize(n);
   ros::serialization::OStream s(buf.data(), std::uint32_t(buf.size()));
   m.write(s);
 }
@@ -93,9 +113,9 @@ template <class Sample>
 class TopicStream {
  public:
   using Parser = Sample (*)(std::span<const std::uint8_t>);
-  TopicStream(rosbag::Bag& bag, const std::vector<std::string>& topics, Parser parse,
+  TopicStream(const CheckedBag& bag, const std::vector<std::string>& topics, Parser parse,
               std::string source)
-      : parse_(parse), source_(std::move(source)) {
+      : bag_(&bag), parse_(parse), source_(std::move(source)) {
     if (topics.empty()) return;
     view_ = std::make_unique<rosbag::View>(bag, rosbag::TopicQuery(topics));
     it_ = view_->begin();
@@ -108,7 +128,7 @@ class TopicStream {
         std::string topic;
         try {
           if (it_ == view_->end()) break;
-          message_bytes(*it_, buf_);
+          message_bytes(*bag_, *it_, buf_);
           topic = it_->getTopic();
           ++it_;
         } catch (const rosbag::BagException& e) {
@@ -130,6 +150,7 @@ class TopicStream {
   }
 
  private:
+  const CheckedBag* bag_;
   Parser parse_;
   std::string source_;
   std::unique_ptr<rosbag::View> view_;

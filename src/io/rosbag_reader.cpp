@@ -59,7 +59,7 @@ class RosbagSource final : public FrameSource {
   std::optional<Frame> next() override {
     try {
       if (it_ == view_->end()) return std::nullopt;
-      message_bytes(*it_, buf_);
+      message_bytes(*bag_, *it_, buf_);
       ++it_;
     } catch (const rosbag::BagException& e) {
       throw Error(path_.string() + ": topic '" + topic_.name + "' message " +
@@ -86,7 +86,7 @@ class RosbagSource final : public FrameSource {
 
  private:
   std::filesystem::path path_;
-  std::unique_ptr<rosbag::Bag> bag_;
+  std::unique_ptr<CheckedBag> bag_;
   BagTopic topic_;
   bool laser_scan_ = false;
   std::unique_ptr<rosbag::View> view_;
@@ -140,7 +140,7 @@ std::vector<ScanAnnotations> read_person_annotations(const std::filesystem::path
   try {
     rosbag::View view(*b, rosbag::TopicQuery(std::vector<std::string>{scan_topic, person_topic}));
     for (const auto& m : view) {
-      message_bytes(m, buf);
+      message_bytes(*b, m, buf);
       if (m.getTopic() == scan_topic) {
         // Every scan message starts with a std_msgs/Header: seq, stamp sec, stamp nsec.
         if (buf.size() < 12)

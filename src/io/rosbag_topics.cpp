@@ -37,7 +37,7 @@ std::size_t typed_topic(const std::filesystem::path& path, rosbag::Bag& bag,
 }
 
 template <class Sample>
-std::vector<Sample> read_all(const std::filesystem::path& path, rosbag::Bag& bag,
+std::vector<Sample> read_all(const std::filesystem::path& path, const CheckedBag& bag,
                              const std::string& topic,
                              Sample (*parse)(std::span<const std::uint8_t>)) {
   try {
@@ -81,7 +81,7 @@ std::optional<Pose> read_mount_transform(const std::filesystem::path& path,
       if (!is_type(t, kTfMessage) || (t.name != "/tf_static" && t.name != "/tf")) continue;
       check_md5(path, t, kTfMessage);
       for (const auto& m : rosbag::View(*bag, rosbag::TopicQuery(t.name))) {
-        message_bytes(m, buf);
+        message_bytes(*bag, m, buf);
         for (const auto& tf : parse_tf_message(buf))
           if (bare(tf.parent) == p && bare(tf.child) == c) return tf.T_parent_child;
       }
@@ -103,7 +103,7 @@ std::string first_frame_id(const std::filesystem::path& path, const std::string&
       throw Error(path.string() + ": no message on topic '" + topic +
                   "'; topics: " + list_topics(topics));
     std::vector<std::uint8_t> buf;
-    message_bytes(*view.begin(), buf);
+    message_bytes(*bag, *view.begin(), buf);
     // std_msgs/Header: seq, stamp sec, stamp nsec, frame_id (uint32 length + chars).
     std::uint32_t n = 0;
     if (buf.size() >= 16) std::memcpy(&n, buf.data() + 12, 4);

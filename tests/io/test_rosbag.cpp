@@ -1,6 +1,8 @@
 // ROS1 bags: LaserScan as a one-ring cloud, PoseArray, topic counts, topic errors, message bytes.
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
 
@@ -190,6 +192,37 @@ TEST(Rosbag, PointCloud2WireFormatWithRingAndTime) {
   auto cut = bytes;
   cut.resize(cut.size() - 30);
   EXPECT_THROW(io::parse_point_cloud2(cut), Error);
+}
+
+TEST(Rosbag, DamagedMessageRecordIsAnErrorNotACrash) {
+  // One byte of a message record's header length changed: the length then read for its data
+  // is far larger than its chunk, which rosbag_storage would copy from regardless.
+  const char* kBag = "legs_2d/positive_2_extracted.bag";
+  FIELDLIDAR_REQUIRE_DATA(kBag);
+  std::ifstream in(test::data_file(kBag), std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // A message data record's header: 38 bytes (op, conn, time), its op field 0x02; the first
+  // after byte 78900 is /training_scan's message 18.
+  const std::string op_field("\x04\0\0\0op=\x02", 8);
+  std::size_t damaged = 0;
+  for (std::size_t i = 78900; i + 50 < bytes.size() && !damaged; ++i)
+    if (bytes[i] == 0x26 && bytes[i + 1] == 0 && bytes[i + 2] == 0 && bytes[i + 3] == 0 &&
+        std::string(bytes.data() + i + 4, 38).find(op_field) != std::string::npos) {
+      bytes[i] = 0x74;
+      damaged = i;
+    }
+  ASSERT_GT(damaged, 0u);
+  const auto file = test::temp_dir("rosbag_damaged") / "damaged.bag";
+  std::ofstream(file, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+  try {
+    auto src = io::FrameSource::open(file);
+    while (src->next()) {
+    }
+    FAIL() << "a damaged record at byte " << damaged << " must be an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("damaged.bag"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("the bag is damaged"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
