@@ -45,6 +45,17 @@ TEST(PlanFailures, AbsurdRadiiAndBudgetsAreInvalidInput) {
   terrain::RobotConfig huge;
   huge.length_m = 1e6;
   EXPECT_THROW(HybridAStar(map, huge), Error);
+  // Cells so fine that the footprint spans more than kMaxFootprintCells: refused before the
+  // footprint masks (which grow with the square of that) are built.
+  for (double res : {0.015, 1e-9}) {
+    try {
+      HybridAStar(open_map(40 * res, 40 * res, res), {});  // 40 x 40 cells
+      FAIL() << res;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("cells across"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_NO_THROW(HybridAStar(open_map(4, 4, 0.02), {}));
 }
 
 TEST(PlanFailures, AllUnknownMapIsTyped) {

@@ -27,12 +27,15 @@ struct MapReadConfig {
 /// pose whose mask is free has its exact footprint free.
 inline constexpr int kSubcells = 8;
 inline constexpr int kFootprintHeadingBins = 72;
+/// The most cells the footprint's diagonal (with the margin) may span: finer maps are refused.
+inline constexpr int kMaxFootprintCells = 64;
 
 class PlanningMap {
  public:
   /// Reads layer kTraversability (required; tau in [0, 1], NaN unknown) and, when present,
   /// kImpassable and kPoints of `map`. Throws fieldlidar::Error naming the field when the layer is
-  /// missing, the grid is empty, or the robot is absurd (sides not in (0, 20] m).
+  /// missing, the grid is empty, the robot is absurd (sides not in (0, 20] m) or the cells so
+  /// small that its footprint spans more than kMaxFootprintCells.
   PlanningMap(const Grid2D& map, const terrain::RobotConfig& robot, const MapReadConfig& config);
 
   const GridGeometry& geometry() const { return geometry_; }
