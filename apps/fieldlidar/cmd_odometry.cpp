@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -24,6 +23,8 @@
 #include "fieldlidar/io/trajectory_io.hpp"
 #include "fieldlidar/odometry/lidar_odometry.hpp"
 #include "support/canvas.hpp"
+#include "support/motion_csv.hpp"
+#include "support/option_checks.hpp"
 #include "support/progress_line.hpp"
 #include "support/sensor_choice.hpp"
 #include "support/warnings.hpp"
@@ -86,54 +87,6 @@ Pose scene_base_lidar(const fs::path& folder) {
   return T;
 }
 
-/// Rows of numbers of a CSV file with a header line.
-std::vector<std::vector<double>> read_csv(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path.string() + ": cannot open");
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  std::getline(in, line);
-  for (int n = 2; std::getline(in, line); ++n) {
-    if (line.empty()) continue;
-    std::vector<double> row;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) {
-      try {
-        row.push_back(std::stod(cell));
-      } catch (const std::exception&) {
-        throw Error(fmt::format("{}: line {}: '{}' is not a number", path.string(), n, cell));
-      }
-    }
-    rows.push_back(std::move(row));
-  }
-  return rows;
-}
-
-std::vector<odometry::ImuSample> read_imu(const fs::path& path) {
-  std::vector<odometry::ImuSample> out;
-  for (const auto& r : read_csv(path)) {
-    if (r.size() < 7) throw Error(path.string() + ": an IMU row needs 7 columns");
-    out.push_back({r[0], {r[1], r[2], r[3]}, {r[4], r[5], r[6]}});
-  }
-  return out;
-}
-
-/// Wheel speeds from the simulator's odom.csv (stamp, ..., linear_m_s, yaw_rate_rad_s, ...) or
-/// a three-column stamp,linear_m_s,yaw_rate_rad_s file.
-std::vector<odometry::WheelSample> read_wheels(const fs::path& path) {
-  std::vector<odometry::WheelSample> out;
-  for (const auto& r : read_csv(path)) {
-    if (r.size() >= 7)
-      out.push_back({r[0], r[5], r[6]});
-    else if (r.size() == 3)
-      out.push_back({r[0], r[1], r[2]});
-    else
-      throw Error(path.string() + ": a wheel row needs 3 or 10 columns");
-  }
-  return out;
-}
-
 /// --imu / --odom: a file, or a topic of the bag INPUT when no such file exists.
 bool bag_topic(const std::string& value, const fs::path& input) {
   if (value.empty() || fs::exists(value)) return false;
@@ -194,9 +147,16 @@ void run_odometry(const OdometryOptions& o) {
   const bool odom_topic = bag_topic(odom_path.string(), input);
   std::vector<odometry::ImuSample> imu;
   std::vector<odometry::WheelSample> wheels;
-  if (!imu_path.empty()) imu = imu_topic ? read_imu_bag(input, o.imu) : read_imu(imu_path);
+  if (!imu_path.empty()) imu = imu_topic ? read_imu_bag(input, o.imu) : read_imu_csv(imu_path);
   if (!odom_path.empty())
-    wheels = odom_topic ? read_wheels_bag(input, o.odom) : read_wheels(odom_path);
+    wheels = odom_topic ? read_wheels_bag(input, o.odom) : read_wheels_csv(odom_path);
+  // The map to localise in, read before any frame: a map with nothing to match is refused here
+  // rather than leaving every frame unregistered.
+  PointCloud map_in;
+  if (!o.map_in.empty()) {
+    map_in = io::read_cloud(o.map_in);
+    if (map_in.valid_count() == 0) throw Error("--map-in " + o.map_in + ": the map has no points");
+  }
   io::SourceOptions so;
   so.topic = o.topic;
   auto source = io::FrameSource::open(input, so);
@@ -208,7 +168,7 @@ void run_odometry(const OdometryOptions& o) {
   nlohmann::json memory = nlohmann::json::array();
   std::unique_ptr<odometry::LidarOdometry> odo;
   Trajectory poses;
-  std::size_t degenerate = 0, unregistered = 0, warnings = 0;
+  std::size_t degenerate = 0, unregistered = 0, registered = 0, warnings = 0;
   std::vector<double> frame_ms;
   DegenerateStretch stretch;
   double last_stamp = -1e300;
@@ -231,7 +191,7 @@ void run_odometry(const OdometryOptions& o) {
           const auto& v = o.initial_pose;
           start = make_pose(v[0], v[1], v[2], v[3] * d, v[4] * d, v[5] * d);
         }
-        odo->set_map(odometry::LocalMap::from_cloud(io::read_cloud(o.map_in), cfg.map), start);
+        odo->set_map(odometry::LocalMap::from_cloud(map_in, cfg.map), start);
       }
     }
     // Files without stamps: one sweep period apart.
@@ -243,6 +203,7 @@ void run_odometry(const OdometryOptions& o) {
     warnings += r.warnings.size();
     degenerate += r.degenerate;
     unregistered += !r.registered && frame->index > 0;
+    registered += r.registered;
     if (r.degenerate)
       stretch.add(frame->index, r.information_ratio.minCoeff());
     else
@@ -261,6 +222,13 @@ void run_odometry(const OdometryOptions& o) {
   stretch.flush();
   progress.end();
   if (!odo) throw Error(o.input + ": no frame");
+  // Localisation that never matched the map: the poses are the prior alone (the initial pose
+  // carried on by IMU, wheels or nothing), not positions in the map.
+  if (!o.map_in.empty() && registered == 0)
+    throw Error(fmt::format(
+        "--map-in {}: none of the {} frames registered in the map (too few feature matches); "
+        "is the map of this place, and --initial-pose near the first frame's pose in it?",
+        o.map_in, poses.size()));
 
   const io::WriteOptions wo{.overwrite = o.force};
   io::write_kitti_poses(out / "poses.txt", poses, wo);
@@ -313,12 +281,13 @@ void add_odometry_command(CLI::App& app) {
       "or geometry_msgs/TwistStamped topic of the bag INPUT (twist linear x, angular z)");
   cmd->add_option("--map-in", o->map_in, "Localise in this saved map (map.pcd of an earlier run)");
   cmd->add_option("--initial-pose", o->initial_pose, "x y z roll pitch yaw (m, deg) in --map-in")
-      ->expected(6);
+      ->expected(6)
+      ->check(real_finite());
   cmd->add_option("--sensor", o->sensor, "Sensor preset when the input does not say");
   cmd->add_flag("--frame-to-frame", o->frame_to_frame, "Seed 002 matching against the last frame");
   cmd->add_option("--elevation-correction", o->elevation_correction_deg,
                   "Added to every point's elevation (deg): 0.22 for KITTI's HDL-64E clouds")
-      ->check(CLI::Range(-2.0, 2.0));
+      ->check(real_in(-2, 2));
   cmd->add_option("--solver", o->solver,
                   "Levenberg-Marquardt of the matching: eigen_lm (default) or ceres (same "
                   "problem, when built with libceres-dev)")

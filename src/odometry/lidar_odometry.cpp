@@ -8,6 +8,8 @@
 
 #include <fmt/core.h>
 
+#include "fieldlidar/core/error.hpp"
+
 namespace fieldlidar::odometry {
 
 namespace {
@@ -39,6 +41,10 @@ LidarOdometry::LidarOdometry(const SensorModel& sensor, const OdometryConfig& co
     : sensor_(sensor), config_(config), map_(config.map) {}
 
 void LidarOdometry::set_map(LocalMap map, const Pose& T_world_lidar_initial) {
+  // Either would leave every frame unregistered (or NaN) without a word.
+  if (map.size() == 0) throw Error("localisation: the map has no points");
+  if (!T_world_lidar_initial.matrix().allFinite())
+    throw Error("localisation: the initial pose is not finite (NaN or inf)");
   map_ = std::move(map);
   T_world_lidar_ = T_world_lidar_initial;
   config_.update_map = false;

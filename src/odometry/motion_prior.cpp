@@ -6,6 +6,7 @@
 
 #include <fmt/core.h>
 
+#include "fieldlidar/core/error.hpp"
 #include "fieldlidar/odometry/lidar_odometry.hpp"
 
 namespace fieldlidar::odometry {
@@ -21,6 +22,22 @@ Pose scale_motion(const Pose& delta, double s) {
   return out;
 }
 
+bool finite(const ImuSample& s) {
+  return std::isfinite(s.stamp_s) && s.gyro_rad_s.allFinite() && s.accel_m_s2.allFinite();
+}
+bool finite(const WheelSample& s) {
+  return std::isfinite(s.stamp_s) && std::isfinite(s.linear_m_s) && std::isfinite(s.yaw_rate_rad_s);
+}
+
+/// One NaN sample would be integrated into every later pose: refused whole, before any is kept.
+template <class S>
+void check_finite(std::span<const S> samples, const char* what) {
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    if (!finite(samples[i]))
+      throw Error(
+          fmt::format("{} sample {} (stamp {} s) holds NaN or inf", what, i, samples[i].stamp_s));
+}
+
 template <class S>
 void append_in_order(std::vector<S>& dst, std::span<const S> src) {
   for (const auto& s : src)
@@ -30,10 +47,12 @@ void append_in_order(std::vector<S>& dst, std::span<const S> src) {
 }  // namespace
 
 void LidarOdometry::add_imu(std::span<const ImuSample> samples) {
+  check_finite(samples, "IMU");
   append_in_order(imu_, samples);
   streams_given_ = streams_given_ || !samples.empty();
 }
 void LidarOdometry::add_wheels(std::span<const WheelSample> samples) {
+  check_finite(samples, "wheel");
   append_in_order(wheels_, samples);
   streams_given_ = streams_given_ || !samples.empty();
 }

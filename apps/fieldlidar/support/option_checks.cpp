@@ -53,6 +53,17 @@ CLI::Validator real_above(double lo, double hi) {
       range);
 }
 
+CLI::Validator real_finite() {
+  const std::string range = "a finite number";
+  return CLI::Validator(
+      [range](std::string& s) -> std::string {
+        double v = 0;
+        if (!parse_real(s, v)) return "must be " + range + ", got '" + s + "'";
+        return {};
+      },
+      range);
+}
+
 CLI::Validator whole_in(long long lo, long long hi) {
   const std::string range =
       "whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";

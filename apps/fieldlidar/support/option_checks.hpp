@@ -15,6 +15,9 @@ namespace fieldlidar::app {
 CLI::Validator real_in(double lo, double hi);
 /// A real number > lo (and <= hi).
 CLI::Validator real_above(double lo, double hi = 1e300);
+/// Any finite real number (NaN and infinity refused): values without a natural range, such as a
+/// pose or a score margin.
+CLI::Validator real_finite();
 /// A whole number in [lo, hi]; "-5" for an unsigned option is refused, not wrapped.
 CLI::Validator whole_in(long long lo, long long hi);
 

@@ -100,9 +100,10 @@ class LidarOdometry {
   LidarOdometry(const SensorModel& sensor, const OdometryConfig& config = {});
 
   /// Localisation in a saved map (LocalMap::to_cloud) from a rough first pose; the map is then
-  /// not updated unless config.update_map.
+  /// not updated unless config.update_map. Throws Error for an empty map or a non-finite pose.
   void set_map(LocalMap map, const Pose& T_world_lidar_initial);
   /// IMU and wheel samples, in time order (older ones than the last are dropped with a warning).
+  /// Throws Error, keeping none of them, when a sample holds NaN or inf.
   void add_imu(std::span<const ImuSample> samples);
   void add_wheels(std::span<const WheelSample> samples);
 
