@@ -18,6 +18,7 @@
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/kitti_calib.hpp"
 #include "fieldlidar/io/trajectory_io.hpp"
+#include "support/option_checks.hpp"
 
 namespace fieldlidar::app {
 
@@ -178,11 +179,24 @@ void run(const EvalOdometryOptions& o) {
     how = o.ref_stride > 1 ? fmt::format("matched by row, every {}th reference row", o.ref_stride)
                            : "matched by row";
   }
+  // Without a pair the RPE would print rmse 0 over 0 pairs, which reads as a perfect estimate.
+  if (o.delta_frames >= est.size())
+    throw Error(fmt::format(
+        "eval-odometry: --delta {}: no RPE pair in {} poses (the delta must be below the number "
+        "of poses)",
+        o.delta_frames, est.size()));
   TrajectoryMetricsConfig cfg;
   cfg.segment_lengths_m = o.lengths_m;
   cfg.segment_step_frames = o.step_frames;
   cfg.rpe_delta_frames = o.delta_frames;
-  const TrajectoryMetrics m = evaluate_trajectory(est, ref, cfg);
+  TrajectoryMetrics m;
+  try {
+    m = evaluate_trajectory(est, ref, cfg);
+  } catch (const Error& e) {
+    // The library names the pose ("estimate pose 3"); the user needs the files too.
+    throw Error(fmt::format("eval-odometry: {} (estimate {}, reference {})", e.what(), o.estimate,
+                            o.reference));
+  }
   if (o.json) {
     std::printf("%s\n", metrics_json(o, m, how).dump(2).c_str());
     return;
@@ -213,17 +227,19 @@ void add_eval_odometry_command(CLI::App& app) {
       ->delimiter(',');
   cmd->add_option("--step", opts->step_frames, "Frames between segment starts (KITTI: 10)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000000));
-  cmd->add_option("--delta", opts->delta_frames, "Frame gap of the RPE")
+      ->check(whole_in(1, 1000000));
+  cmd->add_option("--delta", opts->delta_frames,
+                  "Frame gap of the RPE; must be below the number of poses (an error otherwise: "
+                  "no pair to score)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000000));
+      ->check(whole_in(1, 1000000));
   cmd->add_option("--ref-stride", opts->ref_stride,
                   "Use every N-th reference row (an estimate of every N-th frame)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000000));
+      ->check(whole_in(1, 1000000));
   cmd->add_option("--max-dt", opts->max_dt_s, "Largest time difference of a TUM pair (s)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(real_in(0, INFINITY));
   cmd->add_flag("--json", opts->json, "Print machine-readable JSON");
   cmd->callback([opts] { run(*opts); });
 }

@@ -3,10 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+
+#include "fieldlidar/core/error.hpp"
 
 namespace fieldlidar {
 
 MatchedPoses match_by_time(const Trajectory& a, const Trajectory& b, double max_dt_s) {
+  // A NaN gate fails no `best > max_dt_s` test: every pose would be paired, however far apart.
+  if (!(max_dt_s >= 0.0))
+    throw Error("time matching: max dt " + std::to_string(max_dt_s) + " s is not a number >= 0");
   MatchedPoses m;
   const auto& pb = b.poses();
   std::size_t next_b = 0;  // first pose of b not yet used (pairs keep both orders)

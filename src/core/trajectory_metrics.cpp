@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 
@@ -15,12 +16,27 @@ namespace fieldlidar {
 namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+/// Farther than any ground trajectory goes (the Moon is 3.8e8 m away) and far below where the
+/// sums of squared errors and the alignment's covariance overflow (|t| ~ 1e150 m): a translation
+/// beyond it is a broken file, and would give inf or NaN metrics, or a Sim(3) scale of 0.
+constexpr double kMaxTranslationM = 1e9;
+
+/// `v` as printf's %g ("1e+300", not 301 digits).
+std::string short_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
 
 void check_poses(const std::vector<Pose>& poses, const char* name) {
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const auto& m = poses[i].matrix();
     if (!m.allFinite())
       throw Error(std::string(name) + " pose " + std::to_string(i) + " is not finite (NaN or inf)");
+    const double t = poses[i].translation().cwiseAbs().maxCoeff();
+    if (t > kMaxTranslationM)
+      throw Error(std::string(name) + " pose " + std::to_string(i) + ": translation " +
+                  short_number(t) + " m is beyond " + short_number(kMaxTranslationM) + " m");
     const Eigen::Matrix3d r = poses[i].linear();
     const double off = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
     if (off > 1e-2 || r.determinant() <= 0.0)
@@ -210,6 +226,11 @@ TrajectoryMetrics evaluate_trajectory(const std::vector<Pose>& estimate_in,
   if (estimate_in.size() < 2)
     throw Error("trajectory evaluation: " + std::to_string(estimate_in.size()) +
                 " poses; at least 2 are needed");
+  // No pair would leave the RPE at count 0 and rmse 0, which reads as a perfect estimate.
+  if (config.rpe_delta_frames >= estimate_in.size())
+    throw Error("trajectory evaluation: no RPE pair at a delta of " +
+                std::to_string(config.rpe_delta_frames) + " frames in " +
+                std::to_string(estimate_in.size()) + " poses");
   check_poses(estimate_in, "estimate");
   check_poses(reference_in, "reference");
   const std::vector<Pose> estimate =

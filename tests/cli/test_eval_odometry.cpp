@@ -122,6 +122,41 @@ TEST(CliEvalOdometry, RefusesBadInput) {
   }
 }
 
+// Figures that would read as a result but score nothing: an RPE without a pair (rmse 0), poses
+// so far out that the sums overflow (inf, NaN, a Sim(3) scale of 0), a NaN time gate that
+// pairs every pose. Each is an error naming what to change; range errors read as ranges.
+TEST(CliEvalOdometry, RefusesPairlessRpeOverflowingPosesAndBadGates) {
+  const auto dir = test::temp_dir("eval_odometry_scoreless");
+  io::write_kitti_poses(dir / "ref.txt", curve(50));
+  Trajectory huge;
+  for (std::size_t i = 0; i < 50; ++i)
+    huge.push_back(0.1 * double(i), make_pose(1e300 * double(i), 0, 0, 0, 0, 0));
+  io::write_kitti_poses(dir / "huge.txt", huge);
+  io::write_tum(dir / "ref.tum", curve(50));
+  const auto ref = " " + test::quoted(dir / "ref.txt");
+  const auto tum = test::quoted(dir / "ref.tum") + " " + test::quoted(dir / "ref.tum");
+  const struct {
+    std::string args, message;
+  } cases[] = {
+      {test::quoted(dir / "ref.txt") + ref + " --delta 1000",
+       "--delta 1000: no RPE pair in 50 poses"},
+      {test::quoted(dir / "ref.txt") + ref + " --delta 50 --json",
+       "--delta 50: no RPE pair in 50 poses"},
+      {test::quoted(dir / "huge.txt") + ref, "estimate pose 1: translation 1e+300 m is beyond"},
+      {tum + " --max-dt nan", "--max-dt: must be a number >= 0, got 'nan'"},
+      {tum + " --max-dt -1", "--max-dt: must be >= 0, got -1"},
+  };
+  for (const auto& c : cases) {
+    const auto r = test::run_cli("eval-odometry " + c.args);
+    EXPECT_EQ(r.exit_code, 1) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_LT(r.output.size(), 400u) << r.output;  // no 309-digit DBL_MAX
+  }
+  // One pair short of the end still scores.
+  const auto j = run_json(test::quoted(dir / "ref.txt") + ref + " --delta 49");
+  EXPECT_EQ(j["rpe"]["translation_m"].value("count", 0), 1);
+}
+
 TEST(CliEvalOdometry, KittiCameraReferenceInTheLidarFrame) {
   FIELDLIDAR_REQUIRE_DATA("kitti_tracking0000/orbslam3_poses_0000_frames0-49.txt");
   const auto data = test::data_file("kitti_tracking0000");

@@ -17,7 +17,8 @@ struct MatchedPoses {
 };
 
 /// For every pose of `a`, the pose of `b` nearest in time if within `max_dt_s`; each pose of `b`
-/// is used at most once and the pairs keep the order of both trajectories.
+/// is used at most once and the pairs keep the order of both trajectories. Throws Error for a
+/// negative or NaN `max_dt_s`.
 MatchedPoses match_by_time(const Trajectory& a, const Trajectory& b, double max_dt_s);
 
 }  // namespace fieldlidar

@@ -88,8 +88,9 @@ struct TrajectoryMetrics {
   AbsoluteTrajectoryError ate_sim3;       ///< rigid + scale alignment (evo_ape -as)
 };
 
-/// All metrics. Throws fieldlidar::Error when the sizes differ, there are fewer than 2 poses, a
-/// pose is not finite or its rotation block is far from a rotation (naming which pose).
+/// All metrics. Throws fieldlidar::Error when the sizes differ, there are fewer than 2 poses or
+/// not more than rpe_delta_frames, a pose is not finite, translated beyond 1e9 m (where the
+/// metrics overflow) or its rotation block is far from a rotation (naming which pose).
 TrajectoryMetrics evaluate_trajectory(const std::vector<Pose>& estimate,
                                       const std::vector<Pose>& reference,
                                       const TrajectoryMetricsConfig& config = {});
