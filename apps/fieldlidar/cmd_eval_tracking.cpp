@@ -26,6 +26,7 @@
 #include "fieldlidar/people/person_loss.hpp"
 #include "support/legs_runner.hpp"
 #include "support/losses_picture.hpp"
+#include "support/option_checks.hpp"
 #include "support/tracking_truth.hpp"
 #include "support/warnings.hpp"
 
@@ -197,7 +198,7 @@ void run_eval_tracking(EvalTrackingOptions o) {
                         {"false_positives", c.false_positives},
                         {"false_positives_per_frame", c.false_positives_per_frame()},
                         {"id_switches", c.id_switches},
-                        {"mota", c.mota()},
+                        {"mota", c.truth ? nlohmann::json(c.mota()) : nlohmann::json()},
                         {"recall", c.truth ? nlohmann::json(c.recall()) : nlohmann::json()},
                         {"motp_m", c.matches ? nlohmann::json(c.motp_m()) : nlohmann::json()}};
     j["scans"] = o.scans.size() == 2 ? nlohmann::json(o.scans) : nlohmann::json();
@@ -217,10 +218,11 @@ void run_eval_tracking(EvalTrackingOptions o) {
       "tracked persons ({} scored), gate {:.2f} m\n",
       c.frames, annotated, c.truth, wedge, scans_with_truth, tracked_all, c.tracked, o.gate_m);
   fmt::print(
-      "CLEAR MOT: MOTA {:.4f}, MOTP {} (matches {}, misses {}, false positives {}, id "
+      "CLEAR MOT: MOTA {}, MOTP {} (matches {}, misses {}, false positives {}, id "
       "switches {})\n",
-      c.mota(), c.matches ? fmt::format("{:.4f} m", c.motp_m()) : std::string("n/a"), c.matches,
-      c.misses, c.false_positives, c.id_switches);
+      c.truth ? fmt::format("{:.4f}", c.mota()) : std::string("n/a"),
+      c.matches ? fmt::format("{:.4f} m", c.motp_m()) : std::string("n/a"), c.matches, c.misses,
+      c.false_positives, c.id_switches);
   fmt::print(
       "person recall {} ({} of {} annotated persons reported), {:.4f} false persons per "
       "frame\n",
@@ -257,13 +259,7 @@ void add_eval_tracking_command(CLI::App& app) {
                   "(deg, 0 = x forward, counter-clockwise positive); default for bags: -80 12, "
                   "the leg_tracker benchmark's")
       ->expected(2)
-      ->check([](const std::string& v) {
-        try {
-          return std::isfinite(std::stod(v)) ? std::string() : "must be finite";
-        } catch (...) {
-          return std::string("must be a number");
-        }
-      });
+      ->check(real_finite());
   cmd->add_option("--scans", o->scans,
                   "Score only frames FIRST..LAST (0-based, inclusive; e.g. 0:436); the tracker "
                   "still runs on every frame")
@@ -273,10 +269,10 @@ void add_eval_tracking_command(CLI::App& app) {
                   "Simulated folder: score only persons hit by at least this many returns "
                   "(people.csv `points`)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_in(0, std::numeric_limits<int>::max()));
   cmd->add_option("--gate", o->gate_m, "Match distance: strictly closer matches (m)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(real_above(0));
   cmd->add_flag("--paper-switches", o->paper_switches,
                 "Count only the CLEAR MOT paper's id switches (an annotated person whose track "
                 "changed), not also a track that moved to another person as the benchmark does");
@@ -304,7 +300,7 @@ void add_eval_tracking_command(CLI::App& app) {
          "track lives; 0 keeps people who stand while the robot drives past trackable, and "
          "leg-shaped furniture too")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(real_in(0, 1));
   cmd->add_flag("--seed-only", o->legs.seed_only, "Only the seed's tests");
   cmd->callback([o] { run_eval_tracking(*o); });
 }

@@ -206,6 +206,32 @@ TEST(CliEvalTracking, SimulatedFolderScoresPeopleCsvInTheLidarFrame) {
       << e.output;
 }
 
+// A people.csv with no one in it (empty, or its header alone) scores nothing: every track would
+// be a false positive against nobody (MOTA -inf). An error, before the tracker runs.
+TEST(CliEvalTracking, PeopleCsvWithoutAPersonIsAnError) {
+  const auto dir = test::temp_dir("eval_tracking_no_person");
+  const auto sim =
+      test::run_cli("simulate --scene lawn --frames 2 --seed 0 --force --out " + test::quoted(dir));
+  ASSERT_EQ(sim.exit_code, 0) << sim.output;
+  std::string header;
+  std::getline(std::ifstream(dir / "people.csv"), header);
+  for (const std::string text : {header + "\n", std::string()}) {
+    std::ofstream(dir / "people.csv") << text;
+    const auto r = test::run_cli("eval-tracking " + test::quoted(dir));
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("people.csv: no annotated person"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("MOTA"), std::string::npos) << r.output;
+  }
+  // Range errors say the range, not a 309-digit DBL_MAX.
+  for (const std::string gate : {"0", "inf", "nan"}) {
+    const auto r = test::run_cli("eval-tracking " + test::quoted(dir) + " --gate " + gate);
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("--gate: must be"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("> 0"), std::string::npos) << r.output;
+    EXPECT_LT(r.output.size(), 200u) << r.output;
+  }
+}
+
 TEST(CliEvalTracking, WrongAnnotationTopicIsAnErrorListingTheTopics) {
   FIELDLIDAR_REQUIRE_DATA(kBag);
   const auto bag = test::quoted(test::data_file(kBag));

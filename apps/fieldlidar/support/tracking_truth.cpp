@@ -112,8 +112,10 @@ TrackingTruth simulated_person_truth(const fs::path& dir, double min_points) {
   const auto poses = io::read_kitti_poses(dir / "poses.txt", dir / "times.txt");
   t.persons.resize(poses.size());
   for (std::size_t i = 0; i < poses.size(); ++i) t.stamps_s.push_back(poses[i].stamp_s);
+  std::size_t rows = 0;
   read_csv(dir / "people.csv", {"frame", "id", "x_m", "y_m", "points"},
            [&](const std::vector<std::string>& c, const std::string& where) {
+             ++rows;
              if (to_number(c[4], where + " points") < min_points) return;
              const double f = to_number(c[0], where + " frame");
              if (f < 0 || f >= double(poses.size()) || f != std::floor(f))
@@ -126,6 +128,9 @@ TrackingTruth simulated_person_truth(const fs::path& dir, double min_points) {
              t.persons[std::size_t(f)].push_back(
                  {std::int64_t(to_number(c[1], where + " id")), local.head<2>()});
            });
+  // Every track would be a false positive against nothing (MOTA -inf): the file is broken or the
+  // scene had no one in it, and either way there is nothing to score.
+  if (rows == 0) throw Error((dir / "people.csv").string() + ": no annotated person");
   return t;
 }
 

@@ -27,7 +27,8 @@ TrackingTruth bag_person_truth(const std::string& bag, const std::string& scan_t
                                const std::string& person_topic);
 /// A simulated folder: people.csv (world frame) moved into each frame's lidar frame at the sweep
 /// start (poses.txt, times.txt), frames read from pcd/ (they carry the rings). Persons hit by
-/// fewer than `min_points` returns (people.csv `points`) are left out.
+/// fewer than `min_points` returns (people.csv `points`) are left out. A people.csv without a
+/// row is an error: there is no one to score.
 TrackingTruth simulated_person_truth(const std::filesystem::path& dir, double min_points);
 /// The sensor preset a simulated folder names in its scene.json ("" when it names none).
 std::string simulated_sensor(const std::filesystem::path& dir);
