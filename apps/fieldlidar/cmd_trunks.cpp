@@ -48,8 +48,19 @@ bool is_sequence(const fs::path& input) {
          ext == "db3" || ext == "mcap";
 }
 
+/// --truth's trees (world frame), read before anything is written; none without --truth.
+using Truth = std::optional<std::vector<TrueTree>>;
+
+/// The move of --truth's trees into the frame of a cloud's points: a simulator scan's pose
+/// (`T_world_scan`), then the cloud's own recentring (a plot file's origin_m).
+Pose truth_to_cloud(const PointCloud& cloud, const std::optional<Pose>& T_world_scan) {
+  Pose T_cloud_world = T_world_scan ? T_world_scan->inverse() : Pose::Identity();
+  T_cloud_world.pretranslate(-cloud.origin_m);
+  return T_cloud_world;
+}
+
 // A sequence: every scan tracked against the trunk map (optionally on the odometry's motion).
-void run_sequence(const TrunksOptions& o) {
+void run_sequence(const TrunksOptions& o, const Truth& truth) {
   const fs::path out(o.out);
   fs::create_directories(out);
   for (const char* n : {"poses.txt", "poses_tum.txt", "trees.csv", "trees.geojson", "trees.png"})
@@ -124,19 +135,19 @@ void run_sequence(const TrunksOptions& o) {
       "more -> {}\n",
       o.input, poses.size(), tracked, odo ? ", odometry prior" : "", poses.path_length_m(),
       trees.size(), out.string());
-  if (!o.truth.empty()) {
+  if (truth) {
     if (!have_first)
       warn(
           "--truth: no simulator poses.txt next to the frames; the truth is taken in the frame "
           "of the first scan");
-    print_trunk_scores(trees, read_true_trees(o.truth, T_world_first.inverse()), path);
+    print_trunk_scores(trees, moved(*truth, T_world_first.inverse()), path);
   }
 }
 
 // A stem slice (a cloud under 0.5 m thick, cut at breast height from one stem or a whole plot):
 // each stem's circle, the diameter at the slice's height. No ground: z_base_m is the lowest
 // point of the stem's cluster.
-void run_slice(const TrunksOptions& o, const PointCloud& cloud) {
+void run_slice(const TrunksOptions& o, const PointCloud& cloud, const Truth& truth) {
   const fs::path out(o.out);
   forest::StemSliceConfig sc;
   sc.max_radius_m = o.max_radius_m;
@@ -169,16 +180,20 @@ void run_slice(const TrunksOptions& o, const PointCloud& cloud) {
         trees[k].id, c.x(), c.y(), trees[k].dbh_m, stems[k].inliers, stems[k].arc_deg,
         stems[k].circle.residual_m);
   }
+  if (truth) print_trunk_scores(trees, moved(*truth, truth_to_cloud(cloud, std::nullopt)), {});
 }
 
 void run(const TrunksOptions& o) {
-  if (is_sequence(o.input)) return run_sequence(o);
+  // A missing or broken truth fails the run before any output is written, whatever the input.
+  Truth truth;
+  if (!o.truth.empty()) truth = read_true_trees(o.truth);
+  if (is_sequence(o.input)) return run_sequence(o, truth);
   const fs::path out(o.out);
   const std::vector<std::string> names = {"trees.csv", "trees.geojson", "trees.png"};
   fs::create_directories(out);
   for (const auto& n : names) io::check_writable(out / n, o.force, {fs::path(o.input)});
   const PointCloud cloud = io::read_cloud(o.input);
-  if (!cloud.fields.ring && forest::is_stem_slice(cloud)) return run_slice(o, cloud);
+  if (!cloud.fields.ring && forest::is_stem_slice(cloud)) return run_slice(o, cloud, truth);
   // A sweep with rings gets the robust ground; a plot file, or a sweep without rings (its trunks
   // come from horizontal slices, as a plot's do), the grid: the ring-less sweep of forest_sloam
   // gave no stack at all on the robust ground.
@@ -207,18 +222,17 @@ void run(const TrunksOptions& o) {
                          cloud.fields.ring ? "rings" : "horizontal slices"),
              ground.ground_count, result.segments, result.stacks, result.trees.size(),
              out.string());
-  if (!o.truth.empty()) {
+  if (truth) {
     // A simulator scan lies in its sensor's frame: the truth is moved into it from the world
     // with the scan's pose, and scored within the 15 m of the sensor.
     const auto T_world_scan = simulator_scan_pose(o.input);
     if (sweep && !T_world_scan)
       warn("--truth: no simulator poses.txt for this scan; the truth is taken in its frame");
-    const Pose T_scan_world = T_world_scan ? T_world_scan->inverse() : Pose::Identity();
-    const auto truth = read_true_trees(o.truth, T_scan_world);
+    const auto in_cloud = moved(*truth, truth_to_cloud(cloud, T_world_scan));
     if (sweep)
-      print_trunk_scores(result.trees, truth, {Eigen::Vector3d::Zero()}, 15.0);
+      print_trunk_scores(result.trees, in_cloud, {Eigen::Vector3d::Zero()}, 15.0);
     else
-      print_trunk_scores(result.trees, truth, {});
+      print_trunk_scores(result.trees, in_cloud, {});
   }
 }
 
@@ -237,7 +251,9 @@ void add_trunks_command(CLI::App& app) {
                   "poses_tum.txt for a sequence)")
       ->required();
   cmd->add_option("--truth", o->truth,
-                  "Simulator trees.csv: print precision, recall, DBH RMSE/bias, position RMSE");
+                  "Simulator trees.csv (or one in the input's own coordinates): print precision, "
+                  "recall, DBH RMSE/bias, position RMSE; read and checked before anything is "
+                  "written");
   cmd->add_flag("--odometry", o->odometry,
                 "Sequence: the seed 002 odometry gives each scan's prior motion");
   cmd->add_option("--sensor", o->sensor, "Sensor preset for a sweep; default from the rings");

@@ -134,5 +134,52 @@ TEST(CliTrunks, StemSliceGivesTheStemsDiameter) {
   EXPECT_GT(rows[0][9], 300.0);  // arc seen, deg
 }
 
+// --truth is read and checked before anything is written, whatever the input: a missing file, a
+// value that is not a finite number, a DBH that is not positive and a file with no tree are
+// errors naming the file (and line and column), with no output folder left behind.
+TEST(CliTrunks, TruthIsCheckedBeforeAnyOutput) {
+  const auto dir = temp_dir("cli_trunks_truth");
+  const auto scan = dir / "one.bin";
+  {
+    const float point[4] = {1, 2, 0.5f, 0};
+    std::ofstream(scan, std::ios::binary).write(reinterpret_cast<const char*>(point), 16);
+  }
+  const std::string header = "id,base_x_m,base_y_m,base_z_m,axis_x,axis_y,axis_z,dbh_m,height_m\n";
+  std::ofstream(dir / "header.csv") << header;
+  std::ofstream(dir / "neg.csv") << header << "1,3,4,0,0,0,1,-1,12\n";
+  std::ofstream(dir / "nan.csv") << header << "1,3,4,0,0,0,1,0.3,12\n2,nan,4,0,0,0,1,0.3,12\n";
+  std::ofstream(dir / "flat.csv") << header << "1,3,4,0,1,0,0,0.3,12\n";
+  const struct {
+    std::string truth, message;
+  } cases[] = {
+      {"missing.csv", "missing.csv"},
+      {"header.csv", "header.csv: holds no tree"},
+      {"neg.csv", "neg.csv: line 2: dbh_m -1 is not a positive diameter"},
+      {"nan.csv", "nan.csv: line 3: base_x_m is nan, not a finite number"},
+      {"flat.csv", "flat.csv: line 2: axis (1, 0, 0) does not point up"},
+  };
+  for (const auto& c : cases) {
+    const auto out = dir / "out";
+    const auto r = run_cli("trunks " + quoted(scan) + " --truth " + quoted(dir / c.truth) +
+                           " --out " + quoted(out));
+    EXPECT_EQ(r.exit_code, 1) << c.truth << "\n" << r.output;
+    EXPECT_NE(r.output.find("fieldlidar: error: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.truth << "\n" << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << c.truth;
+  }
+}
+
+// A stem slice is scored against --truth too, in the file's own coordinates.
+TEST(CliTrunks, StemSliceIsScoredAgainstTheTruth) {
+  FIELDLIDAR_REQUIRE_DATA("forest_tls/dbh.las");
+  const auto dir = temp_dir("cli_trunks_slice_truth");
+  std::ofstream(dir / "truth.csv") << "id,base_x_m,base_y_m,base_z_m,axis_x,axis_y,axis_z,dbh_m\n"
+                                   << "1,101.45,152.02,0,0,0,1,0.29\n";
+  const auto r = run_cli("trunks " + quoted(data_file("forest_tls/dbh.las")) + " --truth " +
+                         quoted(dir / "truth.csv") + " --out " + quoted(dir / "slice"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("truth: 1 trees, 1 detected, 1 matched"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace fieldlidar::test

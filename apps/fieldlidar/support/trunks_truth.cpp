@@ -3,8 +3,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
-#include <exception>
+#include <iterator>
 #include <string>
 
 #include <fmt/core.h>
@@ -15,40 +16,65 @@
 
 namespace fieldlidar::app {
 
-std::vector<TrueTree> read_true_trees(const std::filesystem::path& path,
-                                      const Pose& T_frame_world) {
+namespace {
+
+/// The columns read, in the order of trees.csv.
+constexpr const char* kColumns[] = {"id",     "base_x_m", "base_y_m", "base_z_m",
+                                    "axis_x", "axis_y",   "axis_z",   "dbh_m"};
+
+}  // namespace
+
+std::vector<TrueTree> read_true_trees(const std::filesystem::path& path) {
   const auto bytes = io::read_file_bytes(path);
   const std::string text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   std::vector<TrueTree> out;
   std::size_t pos = text.find('\n'), line = 1;
   while (pos != std::string::npos && pos + 1 < text.size()) {
     const std::size_t end = text.find('\n', pos + 1);
-    const std::string row = text.substr(pos + 1, end - pos - 1);
+    std::string row = text.substr(pos + 1, end == std::string::npos ? end : end - pos - 1);
     pos = end;
     ++line;
+    if (!row.empty() && row.back() == '\r') row.pop_back();
     if (row.empty()) continue;
     std::vector<double> v;
     std::size_t a = 0;
-    try {
-      while (a <= row.size() && v.size() < 8) {
-        const std::size_t b = row.find(',', a);
-        v.push_back(std::stod(row.substr(a, b - a)));
-        if (b == std::string::npos) break;
-        a = b + 1;
-      }
-    } catch (const std::exception&) {
-      throw Error(fmt::format("{}: line {}: not a number", path.string(), line));
+    while (v.size() < std::size(kColumns)) {
+      const std::size_t b = row.find(',', a);
+      const std::string cell = row.substr(a, b == std::string::npos ? b : b - a);
+      double x = 0;
+      const auto [p, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), x);
+      if (ec != std::errc() || p != cell.data() + cell.size() || cell.empty())
+        throw Error(fmt::format("{}: line {}: {} '{}' is not a number", path.string(), line,
+                                kColumns[v.size()], cell));
+      if (!std::isfinite(x))
+        throw Error(fmt::format("{}: line {}: {} is {}, not a finite number", path.string(), line,
+                                kColumns[v.size()], cell));
+      v.push_back(x);
+      if (b == std::string::npos) break;
+      a = b + 1;
     }
-    if (v.size() < 8)
+    if (v.size() < std::size(kColumns))
       throw Error(
           fmt::format("{}: line {}: expected id,base_x_m,base_y_m,base_z_m,axis_x,axis_y,"
                       "axis_z,dbh_m,...",
                       path.string(), line));
     const Eigen::Vector3d base(v[1], v[2], v[3]), axis = Eigen::Vector3d(v[4], v[5], v[6]);
-    if (!(axis.z() > 0.1)) throw Error(fmt::format("{}: line {}: axis_z", path.string(), line));
-    out.push_back(
-        {T_frame_world * (base + axis.normalized() * (1.3 / axis.normalized().z())), v[7]});
+    if (!(axis.normalized().z() > 0.1))
+      throw Error(fmt::format("{}: line {}: axis ({:g}, {:g}, {:g}) does not point up",
+                              path.string(), line, v[4], v[5], v[6]));
+    if (!(v[7] > 0))
+      throw Error(fmt::format("{}: line {}: dbh_m {:g} is not a positive diameter", path.string(),
+                              line, v[7]));
+    out.push_back({base + axis.normalized() * (1.3 / axis.normalized().z()), v[7]});
   }
+  // Recall over no tree would read 1.0: a header alone is a broken truth, not a perfect score.
+  if (out.empty()) throw Error(path.string() + ": holds no tree");
+  return out;
+}
+
+std::vector<TrueTree> moved(const std::vector<TrueTree>& trees, const Pose& T_frame_world) {
+  std::vector<TrueTree> out = trees;
+  for (auto& t : out) t.at_dbh = T_frame_world * t.at_dbh;
   return out;
 }
 

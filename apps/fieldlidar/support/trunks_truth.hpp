@@ -19,8 +19,13 @@ struct TrueTree {
 };
 
 /// The rows of a simulator trees.csv (id,base_x_m,base_y_m,base_z_m,axis_x,axis_y,axis_z,dbh_m,
-/// ...), moved by `T_frame_world`; a row that is not numbers raises Error naming file and line.
-std::vector<TrueTree> read_true_trees(const std::filesystem::path& path, const Pose& T_frame_world);
+/// ...) in the file's own (world) frame. Raises Error naming the file, and the line and column
+/// where there is one, for a file that cannot be read or holds no tree, a value that is not a
+/// finite number, an axis that does not point up or a DBH that is not positive.
+std::vector<TrueTree> read_true_trees(const std::filesystem::path& path);
+
+/// `trees` moved by `T_frame_world` (into a scan's frame, or a plot's recentred coordinates).
+std::vector<TrueTree> moved(const std::vector<TrueTree>& trees, const Pose& T_frame_world);
 
 /// Prints detection scores of `trees` against the truth; with a path, only trees within
 /// `radius_m` of it count (and detections farther than `radius_m` + 0.5 m are not scored). A
