@@ -4,6 +4,7 @@
 // point labels (a person class). Per annotated person: its points, leg-band points, legs and
 // persons detected near it; recall of those with enough points, false persons elsewhere, time.
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -25,6 +26,7 @@
 #include "fieldlidar/io/kitti_tracking_labels.hpp"
 #include "fieldlidar/io/label_file.hpp"
 #include "fieldlidar/people/leg_detector.hpp"
+#include "support/option_checks.hpp"
 #include "support/sensor_choice.hpp"
 
 namespace fieldlidar::app {
@@ -70,6 +72,29 @@ nlohmann::json to_json(const Annotated& a) {
           {"nearest_person_m", std::isfinite(a.nearest_person_m) ? a.nearest_person_m : -1.0}};
 }
 
+/// The KITTI labels of `path`, refusing what the reader keeps but no annotation can be: a negative
+/// frame (no sweep has that index) and an object other than DontCare whose box has a size <= 0
+/// (it contains no point, so its person would count as missed). Each line is parsed alone after
+/// the whole file to name the line of the one refused.
+std::vector<io::KittiObject> read_kitti_labels(const std::string& path) {
+  auto objects = io::read_kitti_tracking_labels(path);
+  const auto bytes = io::read_file_bytes(path);
+  const std::string text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  std::size_t start = 0;
+  for (int n = 1; start < text.size(); ++n) {
+    const std::size_t eol = std::min(text.find('\n', start), text.size());
+    for (const auto& ob : io::parse_kitti_tracking_labels(text.substr(start, eol - start), path)) {
+      if (ob.frame < 0)
+        throw Error(fmt::format("{}: line {}: frame {} is negative", path, n, ob.frame));
+      if (ob.type != "DontCare" && !(ob.h_m > 0 && ob.w_m > 0 && ob.l_m > 0))
+        throw Error(fmt::format("{}: line {}: {} box size h {:g} w {:g} l {:g} m is not positive",
+                                path, n, ob.type, ob.h_m, ob.w_m, ob.l_m));
+    }
+    start = eol + 1;
+  }
+  return objects;
+}
+
 void run(const People3dOptions& o) {
   const bool kitti = !o.kitti_labels.empty();
   if (kitti == !o.point_labels.empty())
@@ -79,7 +104,7 @@ void run(const People3dOptions& o) {
   if (!o.out.empty()) io::check_writable(o.out, o.force, {o.input});
   if (kitti) {
     if (o.calib.empty()) throw Error("eval-people3d: --kitti-labels needs --calib");
-    objects = io::read_kitti_tracking_labels(o.kitti_labels);
+    objects = read_kitti_labels(o.kitti_labels);
     calib = io::read_kitti_calib(o.calib);
   }
   const Pose T_velo_rect = calib.T_rect_velo.inverse();
@@ -184,6 +209,12 @@ void run(const People3dOptions& o) {
   }
   fmt::print(stderr, "\n");
   if (!frames) throw Error(o.input + ": no frame");
+  // Recall over no one would read 0 (or 1), and every detection would be false: nothing to score.
+  if (people.empty())
+    throw Error(fmt::format(
+        "eval-people3d: no annotated person in the {} frames scored ({})", frames,
+        kitti ? "no Pedestrian or Cyclist box of " + o.kitti_labels + " in them"
+              : fmt::format("no point of class {} in {}", o.person_class, o.point_labels)));
 
   // Recall per type over the persons with enough points.
   nlohmann::json by_type = nlohmann::json::object();
@@ -196,11 +227,12 @@ void run(const People3dOptions& o) {
       ++scored, found += a.persons_near > 0, legs_seen += a.legs_near > 0;
     }
     if (!total) continue;
-    by_type[type] = {{"annotated", total},
-                     {"with_min_points", scored},
-                     {"found", found},
-                     {"recall", scored ? double(found) / double(scored) : 0.0},
-                     {"with_a_leg_near", legs_seen}};
+    by_type[type] = {
+        {"annotated", total},
+        {"with_min_points", scored},
+        {"found", found},
+        {"recall", scored ? nlohmann::json(double(found) / double(scored)) : nlohmann::json()},
+        {"with_a_leg_near", legs_seen}};
   }
   nlohmann::json j;
   j["input"] = o.input;
@@ -231,10 +263,12 @@ void run(const People3dOptions& o) {
       kitti ? "camera, +-40.7 deg" : "whole sweep", ms_total / double(frames), ms_max);
   for (const auto& [type, v] : by_type.items())
     fmt::print(
-        "  {}: {} annotated, {} with >= {} points, {} found (recall {:.2f}), {} with a leg "
+        "  {}: {} annotated, {} with >= {} points, {} found (recall {}), {} with a leg "
         "detected within {} m\n",
         type, v["annotated"].get<std::size_t>(), v["with_min_points"].get<std::size_t>(),
-        o.min_points, v["found"].get<std::size_t>(), v["recall"].get<double>(),
+        o.min_points, v["found"].get<std::size_t>(),
+        v["recall"].is_null() ? std::string("n/a")
+                              : fmt::format("{:.2f}", v["recall"].get<double>()),
         v["with_a_leg_near"].get<std::size_t>(), o.leg_radius_m);
   if (!o.out.empty()) fmt::print("wrote {}\n", o.out);
 }
@@ -252,13 +286,18 @@ void add_eval_people3d_command(CLI::App& app) {
   cmd->add_option("--calib", o->calib, "KITTI calib.txt (R0_rect, Tr_velo_to_cam) for the boxes");
   cmd->add_option("--point-labels", o->point_labels,
                   "SemanticKITTI-format .label of a single sweep (persons = --person-class)");
+  // Label files keep the class in the low 16 bits (the instance above it).
   cmd->add_option("--person-class", o->person_class, "Person class id in --point-labels")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_in(0, 65535));
   cmd->add_option("--min-points", o->min_points, "Persons with fewer points are not scored")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_in(0, 1000000000));
   cmd->add_option("--gate", o->gate_m, "Match distance of a person detection (m, x-y)")
-      ->capture_default_str();
-  cmd->add_option("--max-frames", o->max_frames, "Stop after this many frames (0 = all)");
+      ->capture_default_str()
+      ->check(real_above(0));
+  cmd->add_option("--max-frames", o->max_frames, "Stop after this many frames (0 = all)")
+      ->check(whole_in(0, 1000000000));
   cmd->add_option("--sensor", o->sensor, "Sensor preset when the input does not say");
   cmd->add_option("--out", o->out,
                   "Write the figures as JSON here: per annotated person, and where each false "

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -80,6 +82,58 @@ TEST(CliEvalPeople3d, RellisPersonFound) {
   const auto bad = test::run_cli("eval-people3d " + test::data_file(scan).string());
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("--kitti-labels"), std::string::npos) << bad.output;
+}
+
+// Options out of range, KITTI boxes no annotation can have, and truth without a person are
+// refused, naming the option or the file and line, instead of scoring recall 0 (or a wrapped
+// --min-points of 18446744073709551615).
+TEST(CliEvalPeople3d, RefusesBadOptionsBadBoxesAndNoAnnotatedPerson) {
+  const auto dir = test::temp_dir("cli_eval_people3d_bad");
+  // 400 returns of a flat ground ring 5 m round the sensor, no person among them.
+  const auto scan = dir / "ground.bin", labels = dir / "ground.label";
+  {
+    std::ofstream bin(scan, std::ios::binary), lab(labels, std::ios::binary);
+    for (int i = 0; i < 400; ++i) {
+      const double a = 2 * M_PI * i / 400;
+      const float p[4] = {float(5 * std::cos(a)), float(5 * std::sin(a)), -1.7f, 0.2f};
+      const std::uint32_t ground = 40;
+      bin.write(reinterpret_cast<const char*>(p), sizeof p);
+      lab.write(reinterpret_cast<const char*>(&ground), sizeof ground);
+    }
+  }
+  const std::string dont_care =
+      "0 -1 DontCare -1 -1 -10 219 188 245 218 -1000 -1000 -1000 -10 -1 -1 -1\n";
+  std::ofstream(dir / "negsize.txt")
+      << dont_care << "0 2 Pedestrian 0 0 -2.5 1106 166 1204 323 -1.7 -0.5 -0.8 6.3 1.6 8.4 -1.9\n";
+  std::ofstream(dir / "negframe.txt")
+      << dont_care << "-5 2 Pedestrian 0 0 -2.5 1106 166 1204 323 1.7 0.7 0.9 6.3 1.6 8.4 -1.9\n";
+  const std::string points =
+      test::quoted(scan) + " --sensor vlp16 --point-labels " + test::quoted(labels);
+  auto kitti = [&](const char* name) {
+    return test::quoted(scan) + " --sensor vlp16 --calib " + test::quoted(dir / "calib.txt") +
+           " --kitti-labels " + test::quoted(dir / name);
+  };
+  const struct {
+    std::string args, message;
+  } cases[] = {
+      {points + " --gate nan", "--gate: must be a number > 0, got 'nan'"},
+      {points + " --gate 0", "--gate: must be > 0, got 0"},
+      {points + " --gate -1", "--gate: must be > 0, got -1"},
+      {points + " --min-points -1", "--min-points: must be a whole number in [0, 1000000000]"},
+      {points + " --person-class -1", "--person-class: must be a whole number in [0, 65535]"},
+      {kitti("negsize.txt"),
+       "negsize.txt: line 2: Pedestrian box size h -1.7 w -0.5 l -0.8 m is not positive"},
+      {kitti("negframe.txt"), "negframe.txt: line 2: frame -5 is negative"},
+      {points, "no annotated person in the 1 frames scored (no point of class 17 in"},
+  };
+  for (const auto& c : cases) {
+    const auto r =
+        test::run_cli("eval-people3d " + c.args + " --out " + test::quoted(dir / "out.json"));
+    EXPECT_EQ(r.exit_code, 1) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find("fieldlidar: error: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out.json")) << c.args;
+  }
 }
 
 }  // namespace
