@@ -170,14 +170,15 @@ void add_legs_command(CLI::App& app) {
          "track lives; 0 keeps people who stand while the robot drives past trackable, and "
          "leg-shaped furniture too")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(real_in(0, 1));
   cmd->add_option("--occupied-leg", o->occupied_leg,
                   "2D: SCORE EVIDENCE: a leg on occupied space (returns there scan after scan) is "
                   "reported only if its classifier score passes the threshold by SCORE or its "
                   "track's evidence reaches EVIDENCE (default: the margins the classifier file "
                   "carries, 3 7 in the shipped one, none in one from legs-train, whose scores "
                   "are on another scale; -1e9 -1e9: no such rule)")
-      ->expected(2);
+      ->expected(2)
+      ->check(real_finite());
   cmd->add_flag("--force", o->force, "Overwrite the output file");
   cmd->callback([o] { run_legs(*o); });
 }

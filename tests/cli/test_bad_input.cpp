@@ -190,6 +190,21 @@ TEST(CliBadInput, OutOfRangeValuesAreRefusedNamingTheOption) {
       << help.output;
 }
 
+// The legs: map of a detector config is range-checked before any scan is read.
+TEST(CliBadInput, LegsConfigOutOfRangeIsRefusedNamingKeyAndValue) {
+  const auto dir = test::temp_dir("cli_legs_config");
+  std::ofstream(dir / "legs.yaml") << "legs:\n  range_max_m: -5\n";
+  const auto r =
+      test::run_cli("legs x.bag --no-classifier --config " + test::quoted(dir / "legs.yaml") +
+                    " --out " + test::quoted(dir / "o.csv"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("legs.yaml: leg detector setting range_max_m -5 must be above "
+                          "range_min_m 0.3"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "o.csv"));
+}
+
 TEST(CliBadInput, ParseErrorsExitOneWithTheToolsWording) {
   for (const std::string args : {"segment", "segment x.bin --no-such-option", "no-such-command",
                                  "simulate --scene moon --out x"}) {

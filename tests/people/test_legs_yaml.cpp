@@ -36,6 +36,48 @@ TEST(LegsYaml, UnknownKeysAndBadValuesNameTheSource) {
   EXPECT_DOUBLE_EQ(legs_config_from_yaml("curve_max: 2.5\n", "x").curve_max, 2.5);  // bare map
 }
 
+// Values the detector would run with and find nothing (or crawl): refused, naming key and value.
+TEST(LegsYaml, OutOfRangeSettingsNameTheKeyAndTheValue) {
+  const struct {
+    const char* yaml;
+    const char* message;
+  } cases[] = {
+      {"range_max_m: -5", "range_max_m -5 must be above range_min_m 0.3"},
+      {"range_min_m: 0", "range_min_m 0 must be positive"},
+      {"range_min_m: 20", "range_max_m 15 must be above range_min_m 20"},
+      {"segment_jump_m: 0", "segment_jump_m 0 must be positive"},
+      {"min_points: 0", "min_points 0 must lie in [1, 10000]"},
+      {"smooth_window: 1000000000", "smooth_window 1000000000 must be an odd number in [1, 99]"},
+      {"smooth_window: 4", "smooth_window 4 must be an odd number"},
+      {"curve_max: 1", "curve_max 1 must be above 1"},
+      {"pair_distance_max_m: 0", "pair_distance_max_m 0 must be positive"},
+      {"min_rings: 0", "min_rings 0 must be at least 1"},
+      {"leg_merge_radius_m: -1", "leg_merge_radius_m -1 must be positive"},
+      {"split_azimuth_gap_rad: 7", "split_azimuth_gap_rad 7 must lie in [0, 2 pi]"},
+      {"path_step_m: -0.1", "path_step_m -0.1 must not be negative"},
+      {"chord_max_m: 0", "chord_max_m 0 must be positive"},
+      {"use_circle_fit: true\n  radius_min_m: 0.2\n  radius_max_m: 0.1",
+       "radius_min_m 0.2 must be below radius_max_m 0.1"},
+      {"circle_rms_max_m: 0", "circle_rms_max_m 0 must be positive"},
+      {"use_curve_min: true\n  curve_min: 2", "curve_min 2 must be below curve_max 1.9"},
+      {"foreground_margin_m: -1", "foreground_margin_m -1 must not be negative"},
+  };
+  for (const auto& c : cases) {
+    try {
+      legs_config_from_yaml(std::string("legs:\n  ") + c.yaml + "\n", "site.yaml");
+      ADD_FAILURE() << c.yaml << ": accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(
+          std::string(e.what()).find(std::string("site.yaml: leg detector setting ") + c.message),
+          std::string::npos)
+          << c.yaml << ": " << e.what();
+    }
+  }
+  // A test switched off need not have its bounds in order.
+  EXPECT_NO_THROW(legs_config_from_yaml(
+      "legs:\n  use_circle_fit: false\n  radius_min_m: 0.2\n  radius_max_m: 0.1\n", "x"));
+}
+
 TEST(Matching, OneToOneWithinTheRadius) {
   const std::vector<Eigen::Vector2d> det{{0, 0}, {0.1, 0}, {5, 5}};
   const std::vector<Eigen::Vector2d> truth{{0.05, 0}, {1, 1}};

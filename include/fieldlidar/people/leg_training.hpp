@@ -75,7 +75,9 @@ TrainingResult estimate_leg_bounds(const std::vector<LabelledArc>& arcs,
 /// YAML text of a config (every field, units in the comments).
 std::string to_yaml(const LegDetectorConfig& config);
 /// Parses YAML text onto `base` (absent keys keep their value); throws fieldlidar::Error naming
-/// `source` and the key for unknown keys or bad values.
+/// `source` and the key for unknown keys or bad values, and the key and value for a setting out
+/// of the detector's range (e.g. range_max_m not above range_min_m > 0, segment_jump_m <= 0,
+/// min_points < 1, an even smooth_window or one above 99).
 LegDetectorConfig legs_config_from_yaml(const std::string& text, const std::string& source,
                                         const LegDetectorConfig& base = {});
 
