@@ -215,7 +215,7 @@ TEST(CliEvalTracking, PeopleCsvWithoutAPersonIsAnError) {
   ASSERT_EQ(sim.exit_code, 0) << sim.output;
   std::string header;
   std::getline(std::ifstream(dir / "people.csv"), header);
-  for (const std::string text : {header + "\n", std::string()}) {
+  for (const std::string& text : {header + "\n", std::string()}) {
     std::ofstream(dir / "people.csv") << text;
     const auto r = test::run_cli("eval-tracking " + test::quoted(dir));
     EXPECT_EQ(r.exit_code, 1) << r.output;
