@@ -15,6 +15,7 @@
 #include "fieldlidar/io/label_file.hpp"
 #include "fieldlidar/segmentation/segment.hpp"
 #include "support/sensor_choice.hpp"
+#include "support/warnings.hpp"
 
 namespace fieldlidar::app {
 
@@ -44,6 +45,10 @@ void run(const EvalOptions& o) {
   segmentation::GroundConfig cfg;
   cfg.method = ground_method(o.method);
   const segmentation::GroundResult r = segmentation::segment_ground(cloud, sensor, cfg);
+  if (!r.up_found)
+    warn(o.input +
+         ": no ground plane below the sensor within 45 deg of its z axis, upright or "
+         "turned over (a sensor tilted further?): segmented as if level");
   const segmentation::GroundScore s =
       segmentation::score_ground(cloud, r.is_ground, truth, ground_classes, ignored);
   if (s.true_positive + s.false_negative == 0)

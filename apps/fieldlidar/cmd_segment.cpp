@@ -23,6 +23,7 @@
 #include "support/canvas.hpp"
 #include "support/option_checks.hpp"
 #include "support/sensor_choice.hpp"
+#include "support/warnings.hpp"
 
 namespace fieldlidar::app {
 
@@ -171,9 +172,15 @@ void run(const SegmentOptions& o) {
     j["sensor_height_m"] = r.ground.sensor_height_m;
     j["tilt_deg"] = r.ground.tilt_deg;
     j["levelled"] = r.ground.levelled;
+    j["upside_down"] = r.ground.upside_down;
+    j["ground_plane_found"] = r.ground.up_found;
   }
   j["clusters"] = r.clusters.clusters.size();
   j["time_ms"] = ms;
+  if (sweep && !r.ground.up_found)
+    warn(o.input +
+         ": no ground plane below the sensor within 45 deg of its z axis, upright or "
+         "turned over (a sensor tilted further?): segmented as if level; give --up");
   if (o.json) {
     std::printf("%s\n", j.dump(2).c_str());
     return;
@@ -184,7 +191,10 @@ void run(const SegmentOptions& o) {
                r.ground.sensor_height_m);
     fmt::print("tilt:          {:.1f} deg from {} ({})\n", r.ground.tilt_deg,
                up.norm() > 0 ? "--up" : "the ground plane",
-               r.ground.levelled ? "levelled before the ground" : "level enough, left as is");
+               r.ground.upside_down ? "upside down: turned over before the ground"
+               : r.ground.levelled  ? "levelled before the ground"
+               : r.ground.up_found  ? "level enough, left as is"
+                                    : "no ground plane found, taken as level");
   } else {
     fmt::print("sensor:        none (not one sweep)\n");
   }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <span>
@@ -27,9 +28,10 @@ namespace {
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 // Lowest return (along the lidar z) of each cell of 36 sectors x 1 m rings between 1 m and
-// near_range_m, from every `stride`-th point.
+// near_range_m, from every `stride`-th point; `flip`: of the cloud turned over about x (y and z
+// negated), as an upside-down sensor's sweep would be seen upright.
 std::vector<Eigen::Vector3f> cell_minima(const PointCloud& cloud, double near_range_m,
-                                         std::size_t stride) {
+                                         std::size_t stride, bool flip) {
   constexpr int kSectors = 36;
   constexpr float kInner = 1.0f;
   const int rings = std::max(1, int(std::ceil(near_range_m - kInner)));
@@ -38,8 +40,9 @@ std::vector<Eigen::Vector3f> cell_minima(const PointCloud& cloud, double near_ra
   const float inner2 = kInner * kInner, near2 = float(near_range_m * near_range_m);
   const float sectors_per_rad = float(kSectors / (2 * std::numbers::pi));
   for (std::size_t i = 0; i < cloud.size(); i += stride) {
-    const Point& p = cloud.points[i];
+    Point p = cloud.points[i];
     if (!valid_point(p)) continue;
+    if (flip) p.y = -p.y, p.z = -p.z;
     const float r2 = p.x * p.x + p.y * p.y;
     if (r2 < inner2 || r2 >= near2) continue;
     const int ring = std::min(rings - 1, int(std::sqrt(r2) - kInner));
@@ -88,20 +91,12 @@ bool refine(std::span<const Eigen::Vector3f> lows, double band_m, Plane& plane,
   return true;
 }
 
-}  // namespace
-
-UpEstimate estimate_up(const PointCloud& cloud, const LevellingConfig& config) {
+// The ground plane below the sensor from the cell minima (estimate_up).
+// `level_fit`: set when the level plane held (no search was needed).
+UpEstimate estimate_from_lows(const std::vector<Eigen::Vector3f>& lows,
+                              const LevellingConfig& config, bool& level_fit) {
+  level_fit = false;
   UpEstimate out;
-  if (config.up.allFinite() && config.up.norm() > 0) {
-    out.up = config.up.normalized();
-    out.tilt_deg = std::acos(std::clamp(out.up.z(), -1.0, 1.0)) * kDegPerRad;
-    out.found = true;
-    return out;
-  }
-  // About 8,000 returns are plenty for the lowest return of 1 m cells near the sensor (reading a
-  // whole 64-ring sweep costs more than the rest of the estimate).
-  const std::vector<Eigen::Vector3f> lows =
-      cell_minima(cloud, config.near_range_m, std::max<std::size_t>(1, cloud.size() / 8000));
   if (lows.size() < 12) return out;
   // Level enough already? A trimmed fit from the level plane, its tilt bounded by the tolerance,
   // that holds a quarter of the lows with (almost) none well below it is the ground: no search.
@@ -126,6 +121,7 @@ UpEstimate estimate_up(const PointCloud& cloud, const LevellingConfig& config) {
       out.sensor_height_m = plane.d;
       out.support = inliers;
       out.found = true;
+      level_fit = true;
       return out;
     }
   }
@@ -174,6 +170,36 @@ UpEstimate estimate_up(const PointCloud& cloud, const LevellingConfig& config) {
   return out;
 }
 
+}  // namespace
+
+UpEstimate estimate_up(const PointCloud& cloud, const LevellingConfig& config) {
+  UpEstimate out;
+  if (config.up.allFinite() && config.up.norm() > 0) {
+    out.up = config.up.normalized();
+    out.tilt_deg = std::acos(std::clamp(out.up.z(), -1.0, 1.0)) * kDegPerRad;
+    out.found = true;
+    return out;
+  }
+  // About 8,000 returns are plenty for the lowest return of 1 m cells near the sensor (reading a
+  // whole 64-ring sweep costs more than the rest of the estimate).
+  const std::size_t stride = std::max<std::size_t>(1, cloud.size() / 8000);
+  bool level = false;
+  out = estimate_from_lows(cell_minima(cloud, config.near_range_m, stride, false), config, level);
+  if (level) return out;
+  // A sensor turned over sees its ground above it: the lowest returns it has are tree tops and
+  // hedges, which may make a plane of their own, but the ground makes a far larger one (a
+  // turned-over sweep of the lawn scene: hedge tops upright, 4 times their support turned over;
+  // RELLIS-3D 000001 upright: its ground 43 lows, the vehicle's roof 68 turned over).
+  UpEstimate over =
+      estimate_from_lows(cell_minima(cloud, config.near_range_m, stride, true), config, level);
+  if (!over.found || over.support < 30 || (out.found && over.support <= 2 * out.support))
+    return out;
+  over.up = Eigen::Vector3d(over.up.x(), -over.up.y(), -over.up.z());
+  over.tilt_deg = std::acos(std::clamp(over.up.z(), -1.0, 1.0)) * kDegPerRad;
+  over.upside_down = true;
+  return over;
+}
+
 GroundResult ground_robust_levelled(const PointCloud& cloud, const SensorModel& sensor,
                                     const RobustGroundConfig& robust,
                                     const LevellingConfig& levelling) {
@@ -182,6 +208,7 @@ GroundResult ground_robust_levelled(const PointCloud& cloud, const SensorModel& 
   if (!up.found || up.tilt_deg <= levelling.level_tolerance_deg) {
     GroundResult r = ground_robust(cloud, sensor, robust);
     r.tilt_deg = up.tilt_deg;
+    r.up_found = up.found;
     return r;
   }
   // R_level_lidar takes the up direction onto z by the smallest rotation (the heading stays).
@@ -193,6 +220,7 @@ GroundResult ground_robust_levelled(const PointCloud& cloud, const SensorModel& 
   GroundResult r = ground_robust(level, sensor, robust);
   r.tilt_deg = up.tilt_deg;
   r.levelled = true;
+  r.upside_down = up.upside_down;
   return r;
 }
 

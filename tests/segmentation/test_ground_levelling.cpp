@@ -108,5 +108,32 @@ INSTANTIATE_TEST_SUITE_P(Scenes, TiltedGround,
                            return s;
                          });
 
+TEST(UpsideDown, TurnedOverSensorIsLevelledAndASteepOneIsSaidSo) {
+  // The lawn VLP-16 rolled 180 deg on its mount (hung under a bracket): its ground lies above it
+  // in its own frame, found only with the sweep turned over. Rolled 60 deg, no plane within
+  // max_tilt_deg is found either way, and the result says so.
+  const sim::Scene scene = sim::make_scene(sim::SceneKind::kLawn, 7);
+  const SensorModel sensor = SensorModel::vlp16();
+  const TiltedFrame level = tilted_frame(scene, sensor, 1.0, 0.0, false);
+  const double level_f1 = score(level.cloud, segment_ground(level.cloud, sensor)).f1;
+  const TiltedFrame over = tilted_frame(scene, sensor, 1.0, 180.0, false);
+  const UpEstimate up = estimate_up(over.cloud);
+  ASSERT_TRUE(up.found);
+  EXPECT_TRUE(up.upside_down);
+  EXPECT_LT(up.up.z(), -0.95);  // up points down the lidar's z axis
+  EXPECT_GT(up.up.dot(over.up_in_lidar), std::cos(3.0 * std::numbers::pi / 180.0));
+  const GroundResult r = segment_ground(over.cloud, sensor);
+  EXPECT_TRUE(r.levelled && r.upside_down && r.up_found);
+  const double over_f1 = score(over.cloud, r).f1;
+  std::printf("upside down: F1 %.4f (level %.4f), tilt %.1f deg\n", over_f1, level_f1, r.tilt_deg);
+  EXPECT_GE(over_f1, level_f1 - 0.02);
+  EXPECT_FALSE(estimate_up(level.cloud).upside_down);
+
+  const TiltedFrame steep = tilted_frame(scene, sensor, 1.0, 60.0, false);
+  const GroundResult s = segment_ground(steep.cloud, sensor);
+  EXPECT_FALSE(s.up_found);
+  EXPECT_FALSE(s.levelled);
+}
+
 }  // namespace
 }  // namespace fieldlidar::segmentation

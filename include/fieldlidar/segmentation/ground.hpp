@@ -210,6 +210,11 @@ struct GroundResult {
   /// cloud was levelled before the robust ground (tilt above LevellingConfig::level_tolerance_deg).
   double tilt_deg = 0.0;
   bool levelled = false;
+  /// False when the levelling found no ground plane below the sensor within
+  /// LevellingConfig::max_tilt_deg of its z axis, upright or turned over (a sensor tilted
+  /// further, or not a sweep from above the ground): the cloud was segmented as if level.
+  bool up_found = true;
+  bool upside_down = false;  ///< the ground was found above the sensor: levelled turned over
 };
 
 /// The up direction of a sweep in its lidar frame.
@@ -219,12 +224,16 @@ struct UpEstimate {
   double sensor_height_m = 0.0;  ///< above the ground plane found (estimate only)
   std::size_t support = 0;       ///< lowest returns on the plane (estimate only)
   bool found = false;            ///< false: too few low returns, up stays z
+  /// Found only with the sweep turned over (no ground below the sensor, a ground plane above
+  /// it): up points down the lidar's z axis.
+  bool upside_down = false;
 };
 
 /// The normal of the dominant ground plane below the sensor: RANSAC over the lowest return of
 /// each cell of a coarse polar grid nearer than near_range_m, planes within max_tilt_deg of z
 /// with the sensor above them, scored by their inliers less the returns well below them (the
-/// ground is the lowest large plane), then refined by least squares on the inliers.
+/// ground is the lowest large plane), then refined by least squares on the inliers. When none
+/// is found, the same with the sweep turned over: a sensor mounted upside down.
 UpEstimate estimate_up(const PointCloud& cloud, const LevellingConfig& config = {});
 
 /// The robust ground after levelling (LevellingConfig): what segment_ground runs for kRobust.
