@@ -46,6 +46,7 @@ def run_seed(seed, out, fieldlidar, extra):
         with open(os.path.join(run, "summary.json")) as f:
             info = json.load(f)
         row["blind_radius_m"], row["sensor"] = info["blind_radius_m"], info["sensor"]
+        row["map"] = info.get("built_map_vs_truth", {})
     return rows
 
 
@@ -101,6 +102,16 @@ def summary(rows):
         f"  {sum(r['outcome'] == 'unreachable' for r in unreach)} of {len(unreach)} goals the "
         f"truth plan does not reach reported unreachable",
     ]
+    maps = [r["map"] for r in rows if r["map"]]
+    if maps:
+        total = lambda k: sum(m[k] for m in maps)
+        known, free, blocked = total("known_cells"), total("truth_passable"), total("passable_blocked")
+        lines.append(
+            f"  the built map against the truth within {maps[0]['radius_m']:g} m of the drives: "
+            f"{known} cells known, {blocked} of the {free} truth-passable ones blocked "
+            f"({100.0 * blocked / max(1, free):.1f} %; {total('passable_blocked_beside_impassable')} "
+            f"of them next to a truth-impassable cell), {total('impassable_passable')} of the "
+            f"{known - free} truth-impassable ones called passable")
     return "\n".join(lines)
 
 

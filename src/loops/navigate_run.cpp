@@ -163,6 +163,7 @@ NavigateResult Loop::run(const Pose2& start, const Pose2& goal) {
   r_.plan_ms = r_.plans.empty() ? 0.0 : plan_ms_ / double(r_.plans.size());
   r_.built_map = std::move(grid_);
   r_.truth = std::move(truth_);
+  r_.map_agreement = map_agreement(r_.built_map, r_.truth, r_.driven, kMapAgreementRadiusM);
   r_.wall_s = ms_since(wall0) / 1000.0;
   return std::move(r_);
 }

@@ -48,6 +48,11 @@ TEST(CliNavigate, ShortDriveWritesItsFilesAndKeepsThem) {
   EXPECT_EQ(j["approach_m"], 2.0);
   EXPECT_EQ(j["guess_looks_allowed"], 2);
   EXPECT_EQ(j["guess_looks"], 0);
+  const auto& m = j["built_map_vs_truth"];  // the map it planned on, near the drive
+  EXPECT_EQ(m["radius_m"], 3.0);
+  EXPECT_GT(m["known_cells"].get<int>(), 100);
+  EXPECT_LE(m["truth_passable"].get<int>(), m["known_cells"].get<int>());
+  EXPECT_LE(m["passable_blocked_beside_impassable"].get<int>(), m["passable_blocked"].get<int>());
   const std::string log = slurp(out / "navigate_log.csv");
   EXPECT_EQ(log.rfind("t_s,x_m,y_m,yaw_rad,", 0), 0u);
   EXPECT_NE(log.find(",impassable_depth_m,obstacle_gap_m,tilt_deg,state,"), std::string::npos);

@@ -183,6 +183,14 @@ nlohmann::json navigate_summary(const loops::NavigateResult& r) {
   j["frames_on_obstacles"] = r.frames_on_obstacles;
   j["min_obstacle_gap_m"] = number_or_null(r.min_obstacle_gap_m);
   j["max_tilt_deg"] = r.max_tilt_deg;
+  const loops::MapAgreement& m = r.map_agreement;
+  j["built_map_vs_truth"] = {
+      {"radius_m", m.radius_m},
+      {"known_cells", m.known_cells},
+      {"truth_passable", m.truth_passable},
+      {"passable_blocked", m.passable_blocked},
+      {"passable_blocked_beside_impassable", m.passable_blocked_beside_impassable},
+      {"impassable_passable", m.impassable_passable}};
   j["plans"] = r.plans.size();
   j["replans"] = r.replans;
   j["safety_stops"] = r.safety_stops;

@@ -324,6 +324,8 @@ struct NavigateResult {
   double plan_ms = 0;     ///< mean wall time per plan (map build + search)
   Grid2D built_map;       ///< planner's input at the end (traversability, impassable, points)
   Grid2D truth;           ///< Scene::terrain_truth at the map's cells
+  /// built_map against truth within kMapAgreementRadiusM of the drive.
+  MapAgreement map_agreement;
 };
 
 /// Throws fieldlidar::Error unless `sensor` can map the ground for the loop: a multi-beam LiDAR

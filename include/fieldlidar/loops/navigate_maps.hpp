@@ -197,4 +197,30 @@ std::optional<planning::Path> escape_path(const planning::PlanningMap& map,
 void clear_under_robot(Grid2D& grid, const planning::Pose2& pose, const terrain::RobotConfig& robot,
                        double grow_m);
 
+/// The built map against the truth on the cells within `radius_m` of a drive (cells whose centre
+/// lies that near one of its poses): how far the map the robot planned on was right where it
+/// mattered. A cell is known to the map when it is impassable, or has a traversability and
+/// returns behind it.
+struct MapAgreement {
+  double radius_m = 0;
+  std::size_t known_cells = 0;     ///< cells the built map knows near the drive
+  std::size_t truth_passable = 0;  ///< of them, passable in the truth
+  /// Truth-passable cells the map blocks (obstacles read wider than they are: a lost way, a
+  /// longer drive), and of those, the ones next to a truth-impassable cell (8 neighbours).
+  std::size_t passable_blocked = 0;
+  std::size_t passable_blocked_beside_impassable = 0;
+  /// Truth-impassable cells the map calls passable (a danger it missed).
+  std::size_t impassable_passable = 0;
+};
+
+/// The navigate loop's radius for MapAgreement (m): the ground the robot planned its moves on
+/// (a plan's next seconds and the cells beside it that decide a way round).
+inline constexpr double kMapAgreementRadiusM = 3.0;
+
+/// MapAgreement of `built` (layers traversability, impassable and optionally points) against
+/// `truth` (layer "passable", Scene::terrain_truth) on the same cells. Throws fieldlidar::Error
+/// when the grids differ or a layer is missing.
+MapAgreement map_agreement(const Grid2D& built, const Grid2D& truth,
+                           std::span<const planning::Pose2> driven, double radius_m);
+
 }  // namespace fieldlidar::loops
