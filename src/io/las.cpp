@@ -74,9 +74,14 @@ LasHeader parse_las_header(std::span<const std::byte> b, std::uint64_t file_size
                          std::to_string(kHeaderSize12));
   LasHeader h;
   const auto format_id = get<std::uint8_t>(b, 104);
-  // LAZ files set bit 7 (and some writers bit 6) of the point format id.
-  h.compressed = (format_id & 0xC0u) != 0;
+  // LAZ files set bit 7 of the point format id (some older writers bit 6) on a format 0-10; any
+  // other id above 10 is no format at all.
+  h.compressed =
+      (format_id & 0x80u) != 0 || ((format_id & 0x40u) != 0 && (format_id & 0x3Fu) <= 10);
   if (h.compressed) las_fail(source, kLazMessage);
+  if (format_id > 10)
+    las_fail(source, "point data format " + std::to_string(format_id) +
+                         " is invalid (LAS defines 0-10; compressed LAZ sets bit 7, 128 and up)");
   h.global_encoding = get<std::uint16_t>(b, 6);
   h.version_major = get<std::uint8_t>(b, 24);
   h.version_minor = get<std::uint8_t>(b, 25);

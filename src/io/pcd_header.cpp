@@ -105,9 +105,13 @@ PcdHeader parse_pcd_header(std::span<const std::byte> bytes, const std::string& 
       h.counts.assign(nvals, 1);
     } else if (key == "SIZE") {
       need_fields();
-      for (std::size_t i = 0; i < nvals; ++i)
-        h.sizes[i] =
-            static_cast<unsigned>(std::min<std::uint64_t>(to_uint(tok[i + 1], source, key), 64));
+      for (std::size_t i = 0; i < nvals; ++i) {
+        const auto size = to_uint(tok[i + 1], source, key);
+        if (size != 1 && size != 2 && size != 4 && size != 8)
+          pcd_fail(source, "header: field '" + h.names[i] + "' has SIZE " + std::to_string(size) +
+                               " (1, 2, 4 or 8 bytes)");
+        h.sizes[i] = static_cast<unsigned>(size);
+      }
     } else if (key == "TYPE") {
       need_fields();
       for (std::size_t i = 0; i < nvals; ++i) {

@@ -126,6 +126,16 @@ TEST(Las, CompressedAndLazAreRefusedWithAClearMessage) {
               std::string::npos)
         << e.what();
   }
+  // Format 99 has neither the LAZ bit 7 nor a format 0-10 under bit 6: it is no format at all.
+  bytes[104] = std::byte{99};
+  try {
+    io::parse_las(bytes, "x.las");
+    FAIL() << "point data format 99 was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("point data format 99 is invalid (LAS defines 0-10"),
+              std::string::npos)
+        << e.what();
+  }
   const auto dir = test::temp_dir("las_laz");
   std::ofstream(dir / "a.laz") << "LASF";
   try {

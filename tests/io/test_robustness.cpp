@@ -109,6 +109,13 @@ TEST(Robustness, PcdHeaderNumbersThatWouldOverflowAreErrors) {
       "WIDTH 1\nPOINTS 1\nDATA binary\n" +
       std::string(64, '\x01');
   expect_error_naming([&] { io::parse_pcd(text_bytes(step), "count.pcd"); }, "count.pcd", "COUNT");
+  // A SIZE past 8 bytes is named with the value given, not a clamped one.
+  const std::string size =
+      "FIELDS x y z\nSIZE 4611686018427387904 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+      "WIDTH 1\nPOINTS 1\nDATA binary\n" +
+      std::string(64, '\x01');
+  expect_error_naming([&] { io::parse_pcd(text_bytes(size), "size.pcd"); }, "size.pcd",
+                      "field 'x' has SIZE 4611686018427387904 (1, 2, 4 or 8 bytes)");
 }
 
 TEST(Robustness, TruncatedAsciiPcdNeverReturnsFewerPoints) {
