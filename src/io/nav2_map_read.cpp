@@ -61,9 +61,29 @@ Grid2D decode_nav2_map(const std::string& yaml, const std::string& pgm,
   }
   const double res = number(kv, "resolution", source, 0, true);
   if (!(res > 0.0 && res <= 1000.0)) throw Error(source + ": resolution " + kv["resolution"]);
-  const bool negate = number(kv, "negate", source, 0, false) != 0.0;
+  const double negate_value = number(kv, "negate", source, 0, false);
+  if (negate_value != 0.0 && negate_value != 1.0)
+    throw Error(source + ": negate " + kv["negate"] + " must be 0 or 1");
+  const bool negate = negate_value == 1.0;
   const double occupied = number(kv, "occupied_thresh", source, 0.65, false);
   const double free = number(kv, "free_thresh", source, 0.196, false);
+  // A threshold as written, or its default when the YAML has none.
+  const auto shown = [&kv](const std::string& key, double v) {
+    if (const auto it = kv.find(key); it != kv.end()) return it->second;
+    std::ostringstream s;
+    s << v << " (default)";
+    return s.str();
+  };
+  if (!(occupied >= 0.0 && occupied <= 1.0))
+    throw Error(source + ": occupied_thresh " + shown("occupied_thresh", occupied) +
+                " must be in [0, 1]");
+  if (!(free >= 0.0 && free <= 1.0))
+    throw Error(source + ": free_thresh " + shown("free_thresh", free) + " must be in [0, 1]");
+  // Equal or crossed thresholds leave no band between free and occupied: the map would not
+  // read the same in map_server.
+  if (!(occupied > free))
+    throw Error(source + ": occupied_thresh " + shown("occupied_thresh", occupied) +
+                " must be above free_thresh " + shown("free_thresh", free));
   const std::string mode = kv.count("mode") ? kv["mode"] : "trinary";
   if (mode != "trinary" && mode != "scale")
     throw Error(source + ": mode '" + mode + "' is not trinary or scale");

@@ -110,8 +110,10 @@ TEST(Nav2MapRead, DecodesWhatIsEncodedInBothModes) {
     EXPECT_EQ(t[g.linear_index(1, 0)], 1.0f) << mode;
     EXPECT_TRUE(std::isnan(t[g.linear_index(2, 0)])) << mode;
     EXPECT_TRUE(std::isnan(t[g.linear_index(2, 1)])) << mode;
-    if (mode == "scale") EXPECT_NEAR(t[g.linear_index(1, 1)], 0.2f, 0.005f);
-    else EXPECT_EQ(t[g.linear_index(1, 1)], 0.0f);  // cost 0.8 > 0.65: occupied
+    if (mode == "scale")
+      EXPECT_NEAR(t[g.linear_index(1, 1)], 0.2f, 0.005f);
+    else
+      EXPECT_EQ(t[g.linear_index(1, 1)], 0.0f);  // cost 0.8 > 0.65: occupied
   }
 }
 
@@ -122,6 +124,32 @@ TEST(Nav2MapRead, MalformedFilesNameTheField) {
   EXPECT_THROW(decode_nav2_map("resolution: 0.5\n", "P2\n1 1\n255\n1", "tau", "a.yaml"), Error);
   EXPECT_THROW(decode_nav2_map("resolution: 0.5\n", "P5\n4 4\n255\n\x01", "tau", "a.yaml"), Error);
   EXPECT_EQ(decode_nav2_map("resolution: 0.5\n", pgm, "tau", "a.yaml").layer("tau")[0], 1.0f);
+}
+
+TEST(Nav2MapRead, NegateAndThresholdsOutOfRangeNameTheField) {
+  const std::string pgm = "P5\n1 1\n255\n\xfe";
+  const struct {
+    std::string yaml, message;
+  } cases[] = {
+      {"negate: 5\n", "a.yaml: negate 5 must be 0 or 1"},
+      {"occupied_thresh: 0.1\nfree_thresh: 0.9\n",
+       "a.yaml: occupied_thresh 0.1 must be above free_thresh 0.9"},
+      {"free_thresh: 0.7\n",
+       "a.yaml: occupied_thresh 0.65 (default) must be above free_thresh 0.7"},
+      {"occupied_thresh: 1.5\n", "a.yaml: occupied_thresh 1.5 must be in [0, 1]"},
+      {"free_thresh: -0.1\n", "a.yaml: free_thresh -0.1 must be in [0, 1]"},
+  };
+  for (const auto& c : cases) {
+    try {
+      decode_nav2_map("resolution: 0.5\n" + c.yaml, pgm, "tau", "a.yaml");
+      ADD_FAILURE() << c.yaml << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
+    }
+  }
+  // negate: 1 reads the image the other way round.
+  EXPECT_EQ(decode_nav2_map("resolution: 0.5\nnegate: 1\n", pgm, "tau", "a.yaml").layer("tau")[0],
+            0.0f);
 }
 
 }  // namespace
