@@ -72,29 +72,6 @@ nlohmann::json to_json(const Annotated& a) {
           {"nearest_person_m", std::isfinite(a.nearest_person_m) ? a.nearest_person_m : -1.0}};
 }
 
-/// The KITTI labels of `path`, refusing what the reader keeps but no annotation can be: a negative
-/// frame (no sweep has that index) and an object other than DontCare whose box has a size <= 0
-/// (it contains no point, so its person would count as missed). Each line is parsed alone after
-/// the whole file to name the line of the one refused.
-std::vector<io::KittiObject> read_kitti_labels(const std::string& path) {
-  auto objects = io::read_kitti_tracking_labels(path);
-  const auto bytes = io::read_file_bytes(path);
-  const std::string text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-  std::size_t start = 0;
-  for (int n = 1; start < text.size(); ++n) {
-    const std::size_t eol = std::min(text.find('\n', start), text.size());
-    for (const auto& ob : io::parse_kitti_tracking_labels(text.substr(start, eol - start), path)) {
-      if (ob.frame < 0)
-        throw Error(fmt::format("{}: line {}: frame {} is negative", path, n, ob.frame));
-      if (ob.type != "DontCare" && !(ob.h_m > 0 && ob.w_m > 0 && ob.l_m > 0))
-        throw Error(fmt::format("{}: line {}: {} box size h {:g} w {:g} l {:g} m is not positive",
-                                path, n, ob.type, ob.h_m, ob.w_m, ob.l_m));
-    }
-    start = eol + 1;
-  }
-  return objects;
-}
-
 void run(const People3dOptions& o) {
   const bool kitti = !o.kitti_labels.empty();
   if (kitti == !o.point_labels.empty())
@@ -104,7 +81,7 @@ void run(const People3dOptions& o) {
   if (!o.out.empty()) io::check_writable(o.out, o.force, {o.input});
   if (kitti) {
     if (o.calib.empty()) throw Error("eval-people3d: --kitti-labels needs --calib");
-    objects = read_kitti_labels(o.kitti_labels);
+    objects = io::read_kitti_tracking_labels(o.kitti_labels);
     calib = io::read_kitti_calib(o.calib);
   }
   const Pose T_velo_rect = calib.T_rect_velo.inverse();

@@ -36,6 +36,17 @@ std::vector<KittiObject> parse_kitti_tracking_labels(std::string_view text,
                   ": expected 17 fields `frame track_id type truncated occluded alpha bbox(4) h w "
                   "l x y z ry`, got '" +
                   line + "'");
+    // What the columns allow but no annotation can be: no sweep has a negative index, and a box
+    // of size <= 0 contains no point (its person would count as missed). DontCare rows carry
+    // -1 sizes by convention.
+    const std::string at = source + ": line " + std::to_string(n) + ": ";
+    if (o.frame < 0) throw Error(at + "frame " + std::to_string(o.frame) + " is negative");
+    if (o.type != "DontCare" && !(o.h_m > 0 && o.w_m > 0 && o.l_m > 0)) {
+      std::ostringstream m;
+      m << at << o.type << " box size h " << o.h_m << " w " << o.w_m << " l " << o.l_m
+        << " m is not positive";
+      throw Error(m.str());
+    }
     o.bottom_rect_m = Eigen::Vector3d(x, y, z);
     out.push_back(std::move(o));
   }

@@ -34,6 +34,30 @@ TEST(KittiTrackingLabels, RowsAndBoxes) {
   EXPECT_THROW(io::parse_kitti_tracking_labels("0 2 Pedestrian 0 0\n", "bad.txt"), Error);
 }
 
+TEST(KittiTrackingLabels, NegativeFrameAndBoxSizeAreRefusedByLine) {
+  const std::string dont_care =
+      "0 -1 DontCare -1 -1 -10 219 188 245 218 -1000 -1000 -1000 -10 -1 -1 -1\n";
+  const struct {
+    std::string row, message;
+  } cases[] = {
+      {"-5 2 Pedestrian 0 0 -2.5 1106 166 1204 323 1.7 0.7 0.9 6.3 1.6 8.4 -1.9\n",
+       "l.txt: line 2: frame -5 is negative"},
+      {"0 2 Pedestrian 0 0 -2.5 1106 166 1204 323 -1.7 -0.5 -0.8 6.3 1.6 8.4 -1.9\n",
+       "l.txt: line 2: Pedestrian box size h -1.7 w -0.5 l -0.8 m is not positive"},
+      {"0 3 Car 0 0 -2.5 1106 166 1204 323 1.5 0 3.9 6.3 1.6 8.4 -1.9\n",
+       "l.txt: line 2: Car box size h 1.5 w 0 l 3.9 m is not positive"},
+  };
+  for (const auto& c : cases) {
+    try {
+      io::parse_kitti_tracking_labels(dont_care + c.row, "l.txt");
+      ADD_FAILURE() << c.row << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(io::parse_kitti_tracking_labels(dont_care, "l.txt").size(), 1u);  // -1 sizes: fine
+}
+
 TEST(KittiTrackingLabels, SharedSequenceLabels) {
   const char* f = "kitti_tracking0000/label_02_0000_frames0-49.txt";
   FIELDLIDAR_REQUIRE_DATA(f);

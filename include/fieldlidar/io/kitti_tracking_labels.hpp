@@ -31,8 +31,8 @@ struct KittiObject {
   Eigen::Vector3d center_rect_m() const { return bottom_rect_m - Eigen::Vector3d(0, h_m / 2, 0); }
 };
 
-/// Throws fieldlidar::Error naming `source` and the line for a row with fewer than 17 fields or
-/// a non-number.
+/// Throws fieldlidar::Error naming `source` and the line for a row with fewer than 17 fields, a
+/// non-number, a negative frame, or a box size <= 0 on an object other than DontCare.
 std::vector<KittiObject> parse_kitti_tracking_labels(std::string_view text,
                                                      const std::string& source);
 std::vector<KittiObject> read_kitti_tracking_labels(const std::filesystem::path& path);
