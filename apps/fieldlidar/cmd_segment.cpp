@@ -19,6 +19,7 @@
 #include "fieldlidar/core/sensor_model.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/label_file.hpp"
+#include "fieldlidar/segmentation/ground.hpp"
 #include "fieldlidar/segmentation/segment.hpp"
 #include "support/canvas.hpp"
 #include "support/option_checks.hpp"
@@ -119,6 +120,7 @@ void run(const SegmentOptions& o) {
   if (cloud.valid_count() == 0)
     throw Error(o.input + ": the scan has no valid point (" + std::to_string(cloud.size()) +
                 " points): nothing to segment");
+  if (const auto why = segmentation::implausible_span(cloud)) throw Error(o.input + ": " + *why);
 
   segmentation::SegmentConfig cfg;
   cfg.ground.method = choose_method(o, cloud);

@@ -134,6 +134,8 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
   ProgressLine progress;
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
+    if (const auto why = segmentation::implausible_span(cloud))
+      throw Error(fmt::format("{}: frame {}: {}", o.input, frame->index, *why));
     drop_nearer_than(cloud, o.min_range_m);
     if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
     if (!sensor) {
@@ -233,6 +235,7 @@ void run(const TraversabilityOptions& o) {
     if (cloud.valid_count() == 0)
       throw Error(o.input + ": no valid point (" + std::to_string(cloud.size()) +
                   " points): nothing to map");
+    if (const auto why = segmentation::implausible_span(cloud)) throw Error(o.input + ": " + *why);
     const segmentation::SweepCheck check = segmentation::check_sweep(cloud);
     const bool sweep = check.sweep || !o.sensor.empty();
     if (!sweep && o.min_range_m > 0.0)

@@ -88,6 +88,8 @@ void run_sequence(const TrunksOptions& o, const Truth& truth) {
   ProgressLine progress;
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
+    if (const auto why = segmentation::implausible_span(cloud))
+      throw Error(fmt::format("{}: frame {}: {}", o.input, frame->index, *why));
     if (!cloud.fields.ring)
       throw Error(
           fmt::format("{}: frame {} has no ring field; tracking needs the scan lines of a "
@@ -193,6 +195,7 @@ void run(const TrunksOptions& o) {
   fs::create_directories(out);
   for (const auto& n : names) io::check_writable(out / n, o.force, {fs::path(o.input)});
   const PointCloud cloud = io::read_cloud(o.input);
+  if (const auto why = segmentation::implausible_span(cloud)) throw Error(o.input + ": " + *why);
   if (!cloud.fields.ring && forest::is_stem_slice(cloud)) return run_slice(o, cloud, truth);
   // A sweep with rings gets the robust ground; a plot file, or a sweep without rings (its trunks
   // come from horizontal slices, as a plot's do), the grid: the ring-less sweep of forest_sloam

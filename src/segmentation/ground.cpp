@@ -5,10 +5,14 @@
 #include <numbers>
 #include <vector>
 
+#include "fieldlidar/core/error.hpp"
 namespace fieldlidar::segmentation {
 
 GroundResult segment_ground(const PointCloud& cloud, const SensorModel& sensor,
                             const GroundConfig& config) {
+  // Far-flung coordinates would leave every point out of the sensor's reach (no ground, said
+  // nowhere) or overflow the grid's cell indices.
+  if (const auto why = implausible_span(cloud)) throw Error("ground: " + *why);
   switch (config.method) {
     case GroundMethod::kSeed000:
       return ground_seed000(cloud, sensor, config.seed000);

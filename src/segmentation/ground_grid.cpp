@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -127,6 +128,7 @@ GroundResult ground_grid(const PointCloud& cloud, const GridGroundConfig& config
       ++valid;
     }
   if (b.empty()) return result;
+  if (const auto why = implausible_span(cloud)) throw Error("grid ground: " + *why);
   GridGroundConfig config = config_in;
   if (config.cell_m == 0) {
     const double area = std::max(1.0, (b.max.x() - b.min.x()) * (b.max.y() - b.min.y()));
@@ -140,11 +142,16 @@ GroundResult ground_grid(const PointCloud& cloud, const GridGroundConfig& config
   lowest.y0 = b.min.y();
   const double nx = std::floor((b.max.x() - b.min.x()) / config.cell_m) + 1;
   const double ny = std::floor((b.max.y() - b.min.y()) / config.cell_m) + 1;
-  if (nx * ny > double(config.max_cells))
-    throw Error("grid ground: the cloud spans " + std::to_string(int(b.max.x() - b.min.x())) +
-                " x " + std::to_string(int(b.max.y() - b.min.y())) + " m, more than " +
-                std::to_string(config.max_cells) + " cells of " + std::to_string(config.cell_m) +
-                " m; give a larger cell");
+  if (nx * ny > double(config.max_cells)) {
+    // A survey of many square kilometres: its cells would not fit, and are no larger than
+    // max_cell_m when chosen from the density.
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "grid ground: the cloud spans %.0f x %.0f m, more than %zu cells of %g m: "
+                  "split it into tiles",
+                  b.max.x() - b.min.x(), b.max.y() - b.min.y(), config.max_cells, config.cell_m);
+    throw Error(text);
+  }
   lowest.nx = int(nx);
   lowest.ny = int(ny);
   lowest.z.assign(std::size_t(lowest.nx) * lowest.ny, kEmpty);

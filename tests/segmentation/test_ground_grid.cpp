@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/las.hpp"
 #include "fieldlidar/segmentation/segment.hpp"
 #include "seg_test_util.hpp"
@@ -127,6 +128,46 @@ TEST(GridGround, PinePlotGroundUnderTheTrees) {
   EXPECT_LT(fraction, 0.30);
   EXPECT_LT(zmax_ground - zmin, 2.0f);
   EXPECT_EQ(high_ground, 0u);
+}
+
+// Coordinates of 1e30 m (another unit, or stray far points) are refused with the span in
+// metres, never cast to a negative cell count; a real but huge survey is told to be tiled.
+TEST(GridGround, FarFlungCoordinatesAreRefusedNamingTheSpan) {
+  PointCloud far;
+  far.push_back({1, 2, 0.5f});  // not (0, 0, 0): that is a missing return
+  far.push_back({1e30f, -2e29f, 1});
+  const auto message = [](auto&& f) {
+    try {
+      f();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  auto m = message([&] { ground_grid(far); });
+  EXPECT_NE(m.find("grid ground: the points span 1e+30 x 2e+29 x 0.5 m, more than 1e+06 m"),
+            std::string::npos)
+      << m;
+  for (const auto method :
+       {GroundMethod::kRobust, GroundMethod::kSeed000, GroundMethod::kSeed002}) {
+    GroundConfig cfg;
+    cfg.method = method;
+    m = message([&] { segment_ground(far, SensorModel::vlp16(), cfg); });
+    EXPECT_NE(m.find("ground: the points span 1e+30"), std::string::npos) << m;
+  }
+  EXPECT_TRUE(implausible_span(far).has_value());
+  far.points[1].x = 999e3f;  // 999 km: a survey, if a large one
+  far.points[1].y = -999e3f;
+  EXPECT_FALSE(implausible_span(far).has_value());
+
+  PointCloud survey;  // 100 km across: more than 2^24 cells of 4 m
+  survey.push_back({1, 1, 0});
+  survey.push_back({100001, 100001, 0});
+  m = message([&] { ground_grid(survey); });
+  EXPECT_NE(m.find("grid ground: the cloud spans 100000 x 100000 m, more than 16777216 cells of "
+                   "4 m: split it into tiles"),
+            std::string::npos)
+      << m;
 }
 
 TEST(SweepCheck, SweepsAndSurveys) {

@@ -2,6 +2,7 @@
 /// \file Ground segmentation: four methods behind one call, per-point ground flags.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -241,6 +242,8 @@ GroundResult ground_robust_levelled(const PointCloud& cloud, const SensorModel& 
                                     const RobustGroundConfig& robust,
                                     const LevellingConfig& levelling);
 
+/// Throws fieldlidar::Error for a cloud of implausible_span(), or one whose grid would exceed
+/// GridGroundConfig::max_cells.
 GroundResult ground_grid(const PointCloud& cloud, const GridGroundConfig& config = {});
 
 /// Whether a cloud can be one sweep of a sensor at its origin (the robust ground assumes it).
@@ -253,7 +256,15 @@ struct SweepCheck {
 /// near it (the lowest returns 2-20 m out lie 0.1-10 m below it).
 SweepCheck check_sweep(const PointCloud& cloud);
 
-/// Ground flags for every point of `cloud` (invalid points are never ground).
+/// Largest span (m, along x, y or z) of a cloud the ground methods take: more is no scene but
+/// coordinates in another unit than metres, or stray far points.
+inline constexpr double kMaxSceneSpanM = 1e6;
+/// Why `cloud` is no scene to segment when its valid points span more than kMaxSceneSpanM
+/// ("the points span 2e+30 x 1e+30 x 3 m, more than 1e+06 m: ..."); nullopt when it is one.
+std::optional<std::string> implausible_span(const PointCloud& cloud);
+
+/// Ground flags for every point of `cloud` (invalid points are never ground). Throws
+/// fieldlidar::Error for a cloud of implausible_span().
 GroundResult segment_ground(const PointCloud& cloud, const SensorModel& sensor,
                             const GroundConfig& config = {});
 

@@ -1,0 +1,23 @@
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "fieldlidar/segmentation/ground.hpp"
+
+namespace fieldlidar::segmentation {
+
+std::optional<std::string> implausible_span(const PointCloud& cloud) {
+  const Bounds3 b = compute_bounds(cloud);
+  if (b.empty()) return std::nullopt;
+  const Eigen::Vector3d span = b.max - b.min;
+  // Compared negated so that a span of inf (or NaN) is refused too.
+  if (!(span.maxCoeff() > kMaxSceneSpanM) && span.allFinite()) return std::nullopt;
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "the points span %.3g x %.3g x %.3g m, more than %.0e m: coordinates in another "
+                "unit than metres, or stray far points?",
+                span.x(), span.y(), span.z(), kMaxSceneSpanM);
+  return std::string(text);
+}
+
+}  // namespace fieldlidar::segmentation
