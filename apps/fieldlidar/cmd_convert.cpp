@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <fmt/core.h>
@@ -13,6 +14,7 @@
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
+#include "support/option_checks.hpp"
 #include "support/progress_line.hpp"
 #include "support/warnings.hpp"
 
@@ -83,6 +85,38 @@ bool single_file_conversion(const ConvertOptions& o) {
          !fs::is_directory(o.output);
 }
 
+/// Refuses options the conversion would not use: --format for one output file (its extension
+/// chooses), an encoding the output format does not have, an output file name for a sequence of
+/// frames, an output extension that is no cloud format.
+void check_convert_options(const ConvertOptions& o, bool format_given) {
+  namespace fs = std::filesystem;
+  const fs::path in(o.input), out(o.output);
+  std::optional<io::CloudFormat> written;
+  if (single_file_conversion(o)) {
+    require(!format_given, "--format",
+            "sets the format of the frame files in an output folder; " + o.output +
+                " is one file, whose extension sets its format");
+    written = io::cloud_format_of(out);
+  } else {
+    const bool to_folder = fs::is_directory(out) || !out.has_extension();
+    if (!to_folder && fs::is_regular_file(in) && io::cloud_format_of(in))
+      throw Error(o.output + ": unknown output extension '" + out.extension().string() +
+                  "': a cloud is written as .pcd, .ply or .bin (or give a folder)");
+    const bool input_found = fs::exists(in) || o.input.find_first_of("*?[") != std::string::npos;
+    if (!to_folder && input_found && io::cloud_format_of(out))
+      throw Error(o.output + ": names one cloud file, but " + o.input +
+                  " is a sequence of frames: give an output folder (e.g. " +
+                  (out.parent_path() / out.stem()).string() + "), written as one file per frame");
+    written = o.format == "bin" ? io::CloudFormat::kKittiBin : io::CloudFormat::kPcd;
+  }
+  require(!(o.ascii && o.compressed), "--compressed", "and --ascii exclude each other");
+  require(
+      !o.compressed || written == io::CloudFormat::kPcd, "--compressed",
+      "only PCD has a binary_compressed encoding; the output format is " + io::to_string(*written));
+  require(!o.ascii || written != io::CloudFormat::kKittiBin, "--ascii",
+          "KITTI .bin has no ASCII encoding; write .pcd or .ply for ASCII");
+}
+
 void convert_stream(const ConvertOptions& o) {
   namespace fs = std::filesystem;
   io::SourceOptions so;
@@ -103,6 +137,7 @@ void convert_stream(const ConvertOptions& o) {
     input_folder = fs::path(o.input).has_parent_path() ? fs::path(o.input).parent_path() : ".";
   if (!input_folder.empty() && fs::equivalent(input_folder, dir, ec))
     throw Error(o.output + ": is the input folder; write the frames to another folder");
+  const bool dir_existed = fs::exists(dir);
   fs::create_directories(dir);
   const fs::path times_path = dir / "times.txt";
   io::check_writable(times_path, o.force, {o.input});
@@ -131,7 +166,14 @@ void convert_stream(const ConvertOptions& o) {
   }
   bar.done();
   warn_source_losses(*source);
-  if (written) io::write_file_atomic(times_path, times, o.force);
+  if (written == 0) {
+    if (!dir_existed) fs::remove(dir, ec);  // only when still empty
+    throw Error(o.input + ": no frame to convert" +
+                (skipped ? fmt::format(" (only {} partial sweep{}: --partial writes them)", skipped,
+                                       skipped == 1 ? "" : "s")
+                         : std::string(" (it holds no scan)")));
+  }
+  io::write_file_atomic(times_path, times, o.force);
   fmt::print("wrote {} frames ({} points) as {} to {}/ with their stamps in times.txt\n", written,
              points, o.format, o.output);
   if (unstamped)
@@ -139,7 +181,7 @@ void convert_stream(const ConvertOptions& o) {
         fmt::format("{} of {} frames carry no time stamp (the input has none): their lines in "
                     "times.txt are 0",
                     unstamped, written));
-  if (written && points == 0) warn(fmt::format("every frame of {} is empty", o.input));
+  if (points == 0) warn(fmt::format("every frame of {} is empty", o.input));
   if (skipped)
     fmt::print("skipped {} partial sweeps at the capture's ends (--partial keeps them)\n", skipped);
   if (o.format == "bin")
@@ -160,9 +202,10 @@ void add_convert_command(CLI::App& app) {
   cmd->add_option("OUT", opts->output,
                   "Output file (.bin, .pcd, .ply) for a single file, else an output folder")
       ->required();
-  cmd->add_option("--format", opts->format, "Frame file format in the output folder: pcd or bin")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"pcd", "bin"}));
+  auto* format = cmd->add_option("--format", opts->format,
+                                 "Frame file format in the output folder: pcd or bin")
+                     ->capture_default_str()
+                     ->check(CLI::IsMember({"pcd", "bin"}));
   cmd->add_option("--topic", opts->topic, "Bag topic of the scans (default: the only one)");
   cmd->add_option("--metadata", opts->metadata,
                   "Ouster metadata JSON (default: <capture>.json beside the capture)");
@@ -172,11 +215,12 @@ void add_convert_command(CLI::App& app) {
   cmd->add_flag("--partial", opts->partial,
                 "Also write the partial sweeps at the start and end of a capture");
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress bar");
-  cmd->callback([opts] {
+  cmd->callback([opts, format] {
+    check_convert_options(*opts, format->count() > 0);
     if (!single_file_conversion(*opts)) return convert_stream(*opts);
     io::check_writable(opts->output, opts->force, {opts->input});
     const PointCloud cloud = io::read_cloud(opts->input);
-    if (cloud.empty()) warn(fmt::format("{} has no points", opts->input));
+    if (cloud.empty()) throw Error(opts->input + ": has no points: nothing to convert");
     io::WriteOptions w;
     w.overwrite = opts->force;
     w.binary = !opts->ascii;

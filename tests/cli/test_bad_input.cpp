@@ -234,8 +234,9 @@ TEST(CliBadInput, EmptyScanIsSaidAndRingsUnknown) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("no valid point"), std::string::npos) << r.output;
   r = test::run_cli("convert " + test::quoted(empty) + " " + test::quoted(dir / "e.pcd"));
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("has no points"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "e.pcd"));
 }
 
 TEST(CliBadInput, TimesOfAFolderWithoutStampsAreFlagged) {

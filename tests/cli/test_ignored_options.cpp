@@ -1,0 +1,60 @@
+// End-to-end: options a command would not use are refused naming the option, rather than
+// ignored; so are values the command line alone shows to be wrong (duplicate pair names, a
+// missing data folder given explicitly). Every case fails before any output is written.
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "run_cli.hpp"
+#include "test_data.hpp"
+
+namespace fieldlidar {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(CliIgnoredOptions, ConvertRefusesWhatItWouldIgnore) {
+  const auto dir = test::temp_dir("cli_convert_options");
+  const float point[4] = {1, 2, 3, 0.5f};
+  fs::create_directories(dir / "frames");
+  for (const auto& f : {dir / "small.bin", dir / "frames" / "000000.bin"})
+    std::ofstream(f, std::ios::binary).write(reinterpret_cast<const char*>(point), sizeof point);
+  const std::string in = test::quoted(dir / "small.bin");
+  const auto out = [&](const char* name) { return " " + test::quoted(dir / "out" / name); };
+  fs::create_directories(dir / "out");
+  const struct {
+    std::string args, message;
+  } cases[] = {
+      {in + out("a.bin") + " --compressed",
+       "--compressed: only PCD has a binary_compressed encoding; the output format is kitti-bin"},
+      {in + out("a.ply") + " --compressed", "--compressed: only PCD has"},
+      {in + out("a.bin") + " --ascii", "--ascii: KITTI .bin has no ASCII encoding"},
+      {in + out("a.pcd") + " --ascii --compressed", "--compressed: and --ascii exclude each other"},
+      {in + out("a.ply") + " --format bin", "--format: sets the format of the frame files"},
+      {in + out("a.xyz"),
+       "a.xyz: unknown output extension '.xyz': a cloud is written as .pcd, "
+       ".ply or .bin"},
+      {test::quoted(dir / "frames") + out("a.pcd"),
+       "a.pcd: names one cloud file, but " + (dir / "frames").string() +
+           " is a sequence of frames: give an output folder"},
+      {test::quoted(dir / "frames") + out("f") + " --format bin --ascii",
+       "--ascii: KITTI .bin has no ASCII encoding"},
+  };
+  for (const auto& c : cases) {
+    const auto r = test::run_cli("convert " + c.args);
+    EXPECT_EQ(r.exit_code, 1) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find("fieldlidar: error: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(dir / "out"));
+  // What they allow still works: a folder without an extension, --format for it.
+  const auto r = test::run_cli("convert " + in + out("f") + " --format bin");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "out" / "f" / "000000.bin"));
+}
+
+}  // namespace
+}  // namespace fieldlidar
