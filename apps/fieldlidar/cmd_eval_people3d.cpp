@@ -89,7 +89,7 @@ void run(const People3dOptions& o) {
   follow::FollowConfig cfg;
   std::vector<Annotated> people;
   nlohmann::json false_list = nlohmann::json::array();  ///< where the false persons stand
-  std::size_t frames = 0, detections = 0, false_persons = 0, legs_total = 0;
+  std::size_t frames = 0, points = 0, detections = 0, false_persons = 0, legs_total = 0;
   std::size_t scored_detections = 0;
   std::size_t false_anywhere = 0;  ///< also where nothing is annotated (KITTI: outside the view)
                                    ///< ///< person detections where annotations exist
@@ -98,6 +98,7 @@ void run(const People3dOptions& o) {
   while (auto frame = source->next()) {
     if (o.max_frames && frames >= o.max_frames) break;
     PointCloud& cloud = frame->cloud;
+    points += cloud.valid_count();
     if (!sensor)
       sensor = source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
     // Leg arcs are found ring by ring: a cloud without a ring field (KITTI) gets estimated ones.
@@ -186,6 +187,7 @@ void run(const People3dOptions& o) {
   }
   fmt::print(stderr, "\n");
   if (!frames) throw Error(o.input + ": no frame");
+  if (points == 0) throw Error(o.input + ": holds no points: no person to detect");
   // Recall over no one would read 0 (or 1), and every detection would be false: nothing to score.
   if (people.empty())
     throw Error(fmt::format(

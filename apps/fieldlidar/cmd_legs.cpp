@@ -13,6 +13,7 @@
 #include <fmt/core.h>
 
 #include "commands.hpp"
+#include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/io/rosbag_reader.hpp"
@@ -76,12 +77,13 @@ void run_legs(const LegsOptions& o) {
   so.topic = o.topic;
   auto source = io::FrameSource::open(o.input, so);
   std::string csv = "stamp,kind,x,y,track_id\n";
-  std::size_t frames = 0, legs_total = 0, persons_total = 0, scored = 0;
+  std::size_t frames = 0, points = 0, legs_total = 0, persons_total = 0, scored = 0;
   std::set<long long> person_ids;  // distinct tracked persons
   people::MatchCounts counts;
   char buf[160];
   while (auto frame = source->next()) {
     ++frames;
+    points += frame->cloud.size();
     const auto found = runner.process(*frame, *source);
     const auto& leg_pos = found.legs;
     const auto& person_pos = found.persons;
@@ -112,7 +114,9 @@ void run_legs(const LegsOptions& o) {
     }
   }
   warn_source_losses(*source);
-  if (frames == 0) warn(fmt::format("{} holds no scans", o.input));
+  if (points == 0)
+    throw Error(o.input + (frames ? ": holds no points" : ": holds no scans") +
+                ": no legs to look for");
   io::write_file_atomic(out, csv, o.force);
   fmt::print(
       "legs: {} scans, {} legs, {} tracked persons ({} person detections, {:.4f} per scan)\n",

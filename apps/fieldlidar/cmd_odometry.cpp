@@ -168,7 +168,7 @@ void run_odometry(const OdometryOptions& o) {
   nlohmann::json memory = nlohmann::json::array();
   std::unique_ptr<odometry::LidarOdometry> odo;
   Trajectory poses;
-  std::size_t degenerate = 0, unregistered = 0, registered = 0, warnings = 0;
+  std::size_t degenerate = 0, unregistered = 0, registered = 0, warnings = 0, points = 0;
   std::vector<double> frame_ms;
   DegenerateStretch stretch;
   double last_stamp = -1e300;
@@ -177,6 +177,7 @@ void run_odometry(const OdometryOptions& o) {
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
     if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
+    points += cloud.size();
     if (!odo) {
       const SensorModel sensor =
           source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
@@ -222,6 +223,7 @@ void run_odometry(const OdometryOptions& o) {
   stretch.flush();
   progress.end();
   if (!odo) throw Error(o.input + ": no frame");
+  if (points == 0) throw Error(o.input + ": holds no points: nothing to register");
   // Localisation that never matched the map: the poses are the prior alone (the initial pose
   // carried on by IMU, wheels or nothing), not positions in the map.
   if (!o.map_in.empty() && registered == 0)

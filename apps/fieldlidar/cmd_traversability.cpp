@@ -132,7 +132,9 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   };
   ProgressLine progress;
+  std::size_t frames_read = 0;
   while (auto frame = source->next()) {
+    frames_read = frame->index + 1;
     PointCloud& cloud = frame->cloud;
     if (const auto why = segmentation::implausible_span(cloud))
       throw Error(fmt::format("{}: frame {}: {}", o.input, frame->index, *why));
@@ -179,11 +181,29 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
   }
   if (pending) fuse(*pending, std::nullopt, 0.0);  // the last sweep, its motion unknown
   progress.end();
+  // More poses than frames: the poses are of another sequence (or another cut of this one).
+  if (!o.poses.empty() && by_index && poses.size() != frames_read)
+    throw Error(
+        fmt::format("--poses {}: {} poses for the {} frames of {}: not the poses of this "
+                    "sequence",
+                    o.poses, poses.size(), frames_read, o.input));
   if (r.frames == 0)
     throw Error(o.input + ": no frame could be placed" +
                 (o.poses.empty() ? std::string() : " by --poses " + o.poses));
   r.map = map.global_map();
   return r;
+}
+
+/// A map without one known cell is written (it is what the input gives) but said: the usual
+/// causes, and the options that change them.
+void warn_nothing_known(const TraversabilityOptions& o, const GridGeometry& g) {
+  std::string change;
+  if (o.min_range_m > 0) change += fmt::format(", a smaller --min-range than {} m", o.min_range_m);
+  if (!o.sensor.empty()) change += ", no --sensor if the input is a survey, not one sweep of it";
+  warn(
+      fmt::format("{}: no cell of the {} x {} map is known: too few returns on the ground of "
+                  "each {} m cell to judge it; try a larger --cell{}",
+                  o.input, g.width, g.height, g.resolution_m, change));
 }
 
 void write_geotiffs(const Grid2D& map, const Eigen::Vector3d& origin_m, const fs::path& dir,
@@ -301,6 +321,7 @@ void run(const TraversabilityOptions& o) {
     ++known;
     if (impassable[i] > 0.5f || !(tau[i] > 0.0f)) ++blocked;
   }
+  if (known == 0) warn_nothing_known(o, g);
   j["min_range_m"] = o.min_range_m;
   j["robot"] = {{"length_m", cfg.robot.length_m},
                 {"width_m", cfg.robot.width_m},

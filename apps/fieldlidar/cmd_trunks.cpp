@@ -84,10 +84,11 @@ void run_sequence(const TrunksOptions& o, const Truth& truth) {
   Trajectory poses;
   std::vector<Eigen::Vector3d> path;
   Pose odo_prev = Pose::Identity();
-  std::size_t tracked = 0;
+  std::size_t tracked = 0, points = 0;
   ProgressLine progress;
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
+    points += cloud.valid_count();
     if (const auto why = segmentation::implausible_span(cloud))
       throw Error(fmt::format("{}: frame {}: {}", o.input, frame->index, *why));
     if (!cloud.fields.ring)
@@ -124,6 +125,7 @@ void run_sequence(const TrunksOptions& o, const Truth& truth) {
   }
   progress.end();
   if (!tracker) throw Error(o.input + ": no frame");
+  if (points == 0) throw Error(o.input + ": holds no points: no trunks to look for");
   const auto trees = tracker->map_trees();
   const io::WriteOptions wo{.overwrite = o.force};
   io::write_kitti_poses(out / "poses.txt", poses, wo);
@@ -195,6 +197,7 @@ void run(const TrunksOptions& o) {
   fs::create_directories(out);
   for (const auto& n : names) io::check_writable(out / n, o.force, {fs::path(o.input)});
   const PointCloud cloud = io::read_cloud(o.input);
+  if (cloud.valid_count() == 0) throw Error(o.input + ": holds no points: no trunks to look for");
   if (const auto why = segmentation::implausible_span(cloud)) throw Error(o.input + ": " + *why);
   if (!cloud.fields.ring && forest::is_stem_slice(cloud)) return run_slice(o, cloud, truth);
   // A sweep with rings gets the robust ground; a plot file, or a sweep without rings (its trunks
