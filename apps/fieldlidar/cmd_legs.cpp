@@ -20,6 +20,7 @@
 #include "fieldlidar/people/leg_training.hpp"
 #include "support/legs_runner.hpp"
 #include "support/option_checks.hpp"
+#include "support/sensor_choice.hpp"
 #include "support/warnings.hpp"
 
 namespace fieldlidar::app {
@@ -161,7 +162,8 @@ void add_legs_command(CLI::App& app) {
          "RANGE_MAX (m); unmatched legs outside it are not scored (legs_2d bags: -15 15 5)")
       ->expected(3)
       ->check(real_in(-180, 180));
-  cmd->add_option("--sensor", o->sensor, "Sensor preset for 3D input without sensor metadata");
+  cmd->add_option("--sensor", o->sensor, "Sensor preset for 3D input without sensor metadata")
+      ->check(sensor_preset());
   cmd->add_flag("--seed-only", o->seed_only, "Only the seed's tests (no additions, no classifier)");
   cmd->add_flag("--still", o->still,
                 "2D: the sensor does not move (no ego-motion estimation by scan matching)");

@@ -262,7 +262,8 @@ void add_trunks_command(CLI::App& app) {
                   "written");
   cmd->add_flag("--odometry", o->odometry,
                 "Sequence: the seed 002 odometry gives each scan's prior motion");
-  cmd->add_option("--sensor", o->sensor, "Sensor preset for a sweep; default from the rings");
+  cmd->add_option("--sensor", o->sensor, "Sensor preset for a sweep; default from the rings")
+      ->check(sensor_preset());
   cmd->add_option("--max-radius", o->max_radius_m, "Largest stem radius U (m)")
       ->check(real_in(0.05, 3.0))
       ->capture_default_str();

@@ -53,5 +53,22 @@ TEST(CliInputMessages, FarFlungCoordinatesAreRefusedWithTheirSpan) {
   }
 }
 
+TEST(CliInputMessages, UnknownSensorIsNamedWithThePresets) {
+  const auto dir = test::temp_dir("cli_bogus_sensor");
+  for (const std::string& args :
+       {"legs x.bin --sensor bogus --out " + test::quoted(dir / "legs.csv"),
+        "trunks x.las --sensor bogus --out " + test::quoted(dir / "trunks")}) {
+    const auto r = test::run_cli(args);
+    EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.output;
+    EXPECT_EQ(r.output.rfind("fieldlidar: error: --sensor: 'bogus' is not a known sensor preset "
+                             "(vlp16, vlp32c, hdl32e, hdl64e, os1-64,",
+                             0),
+              0u)
+        << args << "\n"
+        << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
 }  // namespace
 }  // namespace fieldlidar

@@ -9,11 +9,28 @@
 
 namespace fieldlidar::app {
 
+std::string sensor_preset_list() {
+  std::string list;
+  for (const auto& name : SensorModel::preset_names()) list += (list.empty() ? "" : ", ") + name;
+  return list;
+}
+
+CLI::Validator sensor_preset() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        if (SensorModel::preset(s)) return {};
+        return "'" + s + "' is not a known sensor preset (" + sensor_preset_list() + ")";
+      },
+      "");
+}
+
 SensorModel sensor_for(const PointCloud& cloud, const std::string& input,
                        const std::string& preset) {
   if (!preset.empty()) {
     auto s = SensorModel::preset(preset);
-    if (!s) throw Error("--sensor '" + preset + "' is not a known sensor preset");
+    if (!s)
+      throw Error("--sensor '" + preset + "' is not a known sensor preset (" +
+                  sensor_preset_list() + ")");
     return *s;
   }
   if (cloud.fields.ring) {
