@@ -106,6 +106,11 @@ void write_picture(const fs::path& path, const sim::Scene& scene, const loops::C
   canvas.save_png(path, force);
 }
 
+/// "0.123 m", or "n/a" for a distance the run was too short to measure (no boundary: inf).
+std::string metres_or_na(double m) {
+  return std::isfinite(m) ? fmt::format("{:.3f} m", m) : std::string("n/a");
+}
+
 }  // namespace
 
 void run_follow(const FollowOptions& o) {
@@ -225,11 +230,12 @@ void run_follow(const FollowOptions& o) {
                 o.force);
   fmt::print(
       "follow: {} frames ({:.1f} s), {}, {} poses; boundary {} vertices, {:.1f} m2, vs walked loop "
-      "mean {:.3f} m, Hausdorff {:.3f} m; {} self-intersections; target id {} switches {}; frames "
-      "moving below L_s {}\n",
+      "mean {}, Hausdorff {}; {} self-intersections; target id {} switches {}; frames moving below "
+      "L_s {}\n",
       r.rows.size(), r.duration_s, r.stopped_by_command ? "stopped at the start" : "time limit",
       loops::to_string(r.pose_source), r.boundary.vertices.size(), r.boundary.area_m2,
-      r.boundary_error.mean_m, r.boundary_error.hausdorff_m, r.boundary.self_intersections.size(),
+      metres_or_na(r.boundary_error.mean_m), metres_or_na(r.boundary_error.hausdorff_m),
+      r.boundary.self_intersections.size(),
       r.first_target_id ? std::int64_t(*r.first_target_id) : -1, r.target_switches,
       r.frames_moving_too_close);
   if (const auto& a = r.odometry_accuracy)

@@ -106,6 +106,11 @@ void run_follow_replay(const FollowOptions& o) {
     times = io::read_kitti_times(input / "times.txt");
     input = input / "pcd";
   }
+  // Beside a simulator folder or a capture, --odom can only be a TUM pose file: a missing one is
+  // named, not read as a bag topic.
+  if (!o.odom_topic.empty() && input.extension() != ".bag" && !fs::is_regular_file(o.odom_topic))
+    throw Error("--odom " + o.odom_topic + ": no such file (with a --replay that is not a bag, " +
+                "--odom is a TUM pose file)");
   io::SourceOptions so;
   so.topic = o.topic;
   auto source = io::FrameSource::open(input, so);

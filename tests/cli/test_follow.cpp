@@ -74,6 +74,11 @@ TEST(CliFollow, ShortRunWritesAllOutputsAndRefusesToOverwrite) {
   int rows = 0;
   while (std::getline(log, row)) ++rows;
   EXPECT_EQ(rows, 40);
+  // A run too short to close a boundary has no distance to the walked loop: n/a, not inf.
+  const auto brief = test::run_cli("follow --max-time 1e-9 --out " +
+                                   (test::temp_dir("cli_follow_brief") / "out").string());
+  ASSERT_EQ(brief.exit_code, 0) << brief.output;
+  EXPECT_NE(brief.output.find("mean n/a, Hausdorff n/a"), std::string::npos) << brief.output;
   const auto again = test::run_cli("follow --max-time 1 --out " + dir.string());
   EXPECT_EQ(again.exit_code, 1);
   EXPECT_NE(again.output.find("fieldlidar: error:"), std::string::npos);

@@ -70,5 +70,19 @@ TEST(CliInputMessages, UnknownSensorIsNamedWithThePresets) {
   EXPECT_TRUE(fs::is_empty(dir));
 }
 
+TEST(CliInputMessages, MissingOdomFileOfAReplayIsNamed) {
+  const auto dir = test::temp_dir("cli_replay_odom");
+  fs::create_directories(dir / "sim" / "pcd");
+  std::ofstream(dir / "sim" / "times.txt") << "0\n";
+  const auto missing = dir / "nope" / "poses_tum.txt";
+  const auto r =
+      test::run_cli("follow --max-time 2 --replay " + test::quoted(dir / "sim") + " --odom " +
+                    test::quoted(missing) + " --out " + test::quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("fieldlidar: error: --odom " + missing.string() + ": no such file"),
+            std::string::npos)
+      << r.output;
+}
+
 }  // namespace
 }  // namespace fieldlidar
