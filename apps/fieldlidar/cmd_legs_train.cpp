@@ -42,6 +42,7 @@ struct TrainOptions {
   std::string sensor = "vlp16";
   bool force = false;
   bool classifier = true;
+  bool classifier_asked = false;  ///< --classifier given on the command line (not the default)
   int rounds = 200;
   std::vector<std::string> exclude_features;
   people::SegmentAugmentationConfig augment;  // off: measured not to help (docs/people.md)
@@ -113,6 +114,21 @@ void collect(const std::string& bag, const std::string& topic,
   warn_source_losses(*src);
 }
 
+/// A name of segment_feature_names(); any other fails while the command line is parsed, before
+/// any bag is read (the classifier would refuse it only once trained on negatives).
+CLI::Validator segment_feature() {
+  return CLI::Validator(
+      [](std::string& name) -> std::string {
+        std::string known;
+        for (const char* k : people::segment_feature_names()) {
+          if (name == k) return {};
+          known += (known.empty() ? "" : ", ") + std::string(k);
+        }
+        return "'" + name + "' is not a segment feature (" + known + ")";
+      },
+      "");
+}
+
 void run_train(const TrainOptions& o) {
   namespace fs = std::filesystem;
   require(o.low_quantile < o.high_quantile, "--low-quantile",
@@ -128,6 +144,9 @@ void run_train(const TrainOptions& o) {
         "legs-train: --positive (2D scans) and --sim-frames (3D sweeps) train different "
         "configs; give one of them");
   const bool sim3d = o.sim_frames > 0;
+  require(sim3d || !o.classifier_asked || !o.negative.empty(), "--classifier",
+          "the leg classifier learns from scans without people too: give --negative bags (or "
+          "--no-classifier for the config's bounds alone)");
   const people::LegDetectorConfig base = sim3d ? follow::FollowConfig::default_3d_legs()
                                                : people::seed_only(people::default_2d_legs());
   std::vector<people::LabelledArc> arcs;
@@ -258,15 +277,17 @@ void add_legs_train_command(CLI::App& app) {
       ->check(real_in(0, 1));
   cmd->add_option("--out", o->out, "YAML config to write")->required();
   cmd->add_flag("--force", o->force, "Overwrite the output file");
-  cmd->add_flag("--classifier,!--no-classifier", o->classifier,
-                "2D: also train the learned leg classifier (written as OUT_classifier.yaml)")
-      ->capture_default_str();
+  auto* classifier =
+      cmd->add_flag("--classifier,!--no-classifier", o->classifier,
+                    "2D: also train the learned leg classifier (written as OUT_classifier.yaml)")
+          ->capture_default_str();
   cmd->add_option("--rounds", o->rounds, "Boosting rounds of the leg classifier")
       ->capture_default_str()
       ->check(whole_in(1, 5000));
   cmd->add_option("--exclude-features", o->exclude_features,
                   "2D classifier: features no tree may split on (names as in the classifier YAML, "
-                  "e.g. range_m points angular_width_rad spacing_m: the range-dependent ones)");
+                  "e.g. range_m points angular_width_rad spacing_m: the range-dependent ones)")
+      ->check(segment_feature());
   cmd->add_option("--augment", o->augment.copies,
                   "2D classifier: copies of each training segment re-seen farther and narrower "
                   "(0: none)")
@@ -288,7 +309,10 @@ void add_legs_train_command(CLI::App& app) {
                   "Range noise added to a copy's returns (m)")
       ->capture_default_str()
       ->check(real_in(0, 0.1));
-  cmd->callback([o] { run_train(*o); });
+  cmd->callback([o, classifier] {
+    o->classifier_asked = o->classifier && classifier->count() > 0;
+    run_train(*o);
+  });
 }
 
 }  // namespace fieldlidar::app

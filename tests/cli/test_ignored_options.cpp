@@ -56,5 +56,23 @@ TEST(CliIgnoredOptions, ConvertRefusesWhatItWouldIgnore) {
   EXPECT_TRUE(fs::exists(dir / "out" / "f" / "000000.bin"));
 }
 
+TEST(CliIgnoredOptions, LegsTrainClassifierNeedsNegativesAndKnownFeatures) {
+  const auto dir = test::temp_dir("cli_legs_train_options");
+  const std::string out = " --out " + test::quoted(dir / "legs.yaml");
+  auto r = test::run_cli("legs-train --positive x.bag --classifier" + out);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("fieldlidar: error: --classifier: the leg classifier learns from scans "
+                          "without people too: give --negative bags"),
+            std::string::npos)
+      << r.output;
+  r = test::run_cli("legs-train --positive x.bag --exclude-features range_m bogus" + out);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("fieldlidar: error: --exclude-features: 'bogus' is not a segment "
+                          "feature (points, chord_m, "),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "legs.yaml"));
+}
+
 }  // namespace
 }  // namespace fieldlidar
