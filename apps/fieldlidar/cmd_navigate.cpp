@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,17 @@ struct NavigateOptions {
   double start_look_rad = loops::NavigateConfig{}.start_look_rad;
   bool force = false;
 };
+
+/// The sensor presets the loop drives with: multi-beam LiDARs whose lowest beams see the ground
+/// (tilting2d, a nodding 2D scanner, and laser2d are not).
+constexpr const char* kMultiBeamPresets[] = {"vlp16",  "vlp32c",  "hdl32e", "hdl64e",
+                                             "os1-64", "os1-128", "os2-128"};
+
+std::string multi_beam_list() {
+  std::string list;
+  for (const char* k : kMultiBeamPresets) list += (list.empty() ? "" : ", ") + std::string(k);
+  return list;
+}
 
 /// The scene's route start (heading to its second waypoint) and end.
 loops::NavigatePair default_pair(const sim::Scene& scene) {
@@ -119,6 +131,13 @@ void run(const NavigateOptions& o) {
   std::vector<loops::NavigatePair> pairs;
   if (!o.pairs.empty()) {
     pairs = loops::read_navigate_pairs(o.pairs);
+    // Each pair's run goes to DIR/name: a second pair of a name would fail on the first's files
+    // after the first had run.
+    std::set<std::string> names;
+    for (const auto& p : pairs)
+      if (!names.insert(p.name).second)
+        throw Error("--pairs " + o.pairs + ": two pairs are named '" + p.name +
+                    "' (each pair's run is written to DIR/name): rename one");
   } else {
     loops::NavigatePair p = default_pair(scene);
     if (!o.start.empty()) p.start = parse_pose(o.start, "--start");
@@ -223,11 +242,17 @@ void add_navigate_command(CLI::App& app) {
                   "Start pose x,y,yaw (m, m, rad; scene frame); default: the scene route's start");
   cmd->add_option("--goal", o->goal,
                   "Goal pose x,y,yaw (m, m, rad; scene frame); default: the scene route's end");
-  cmd->add_option(
-         "--sensor", o->sensor,
-         "The robot's LiDAR, a multi-beam preset (vlp16, vlp32c, hdl32e, hdl64e, os1-64, "
-         "os1-128, os2-128) on the scene's 1.2 m mast; its lowest beam sets the blind disk")
-      ->capture_default_str();
+  cmd->add_option("--sensor", o->sensor,
+                  "The robot's LiDAR, a multi-beam preset (" + multi_beam_list() +
+                      ") on the scene's 1.2 m mast; its lowest beam sets the blind disk")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& name) -> std::string {
+            for (const char* k : kMultiBeamPresets)
+              if (name == k) return {};
+            return "'" + name + "' is not a multi-beam preset (" + multi_beam_list() + ")";
+          },
+          ""));
   cmd->add_option("--robot", o->robot,
                   "Robot YAML (sizes, slope and step limits, min_turn_radius_m; see "
                   "config/robot_seed004.yaml); default: the seed's 0.93 x 0.58 m chassis")
@@ -276,7 +301,7 @@ void add_navigate_command(CLI::App& app) {
                   "drives to see those cells from beyond its blind disk and plans again; at most "
                   "this many looks per drive (0: off)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 20));
+      ->check(whole_in(0, 20));
   cmd->add_option("--margin", o->margin_m,
                   "Clearance (m) the planner keeps around the robot's rectangle")
       ->capture_default_str()

@@ -204,7 +204,7 @@ void add_plan_command(CLI::App& app) {
                   "slowest plans, near a goal heading hard to meet, finish sooner); 0: never; "
                   "never at --weight 1")
       ->capture_default_str()
-      ->check(CLI::Range(0, 100000000));
+      ->check(whole_in(0, 100000000));
   cmd->add_flag("--no-unknown{false}", o->allow_unknown, "Never drive over unknown cells");
   cmd->add_flag("--no-smooth", o->no_smooth, "Return the search's path without smoothing");
   cmd->add_flag("-f,--force", o->force, "Replace existing output files");

@@ -74,5 +74,36 @@ TEST(CliIgnoredOptions, LegsTrainClassifierNeedsNegativesAndKnownFeatures) {
   EXPECT_FALSE(fs::exists(dir / "legs.yaml"));
 }
 
+TEST(CliIgnoredOptions, NavigateAndPlanArgumentsAreCheckedUpFront) {
+  const auto dir = test::temp_dir("cli_navigate_options");
+  std::ofstream(dir / "pairs.csv") << "a,-20,0,0,20,0,0\nb,-20,5,0,20,5,0\na,-20,-5,0,20,-5,0\n";
+  const std::string out = " --out " + test::quoted(dir / "nav");
+  const struct {
+    std::string args, message;
+  } cases[] = {
+      {"navigate --pairs " + test::quoted(dir / "pairs.csv") + out,
+       "--pairs " + (dir / "pairs.csv").string() + ": two pairs are named 'a'"},
+      {"navigate --sensor tilting2d" + out,
+       "--sensor: 'tilting2d' is not a multi-beam preset (vlp16, vlp32c, hdl32e, hdl64e, os1-64, "
+       "os1-128, os2-128)"},
+      {"navigate --guess-looks 1.5" + out,
+       "--guess-looks: must be a whole number in [0, 20], got '1.5'"},
+      {"navigate --guess-looks 21" + out, "--guess-looks: must be a whole number in [0, 20]"},
+      {"plan --map m.yaml --start 0,0,0 --goal 1,1,0 --late-expansions -1" + out,
+       "--late-expansions: must be a whole number in [0, 100000000], got '-1'"},
+  };
+  for (const auto& c : cases) {
+    const auto r = test::run_cli(c.args);
+    EXPECT_EQ(r.exit_code, 1) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find("fieldlidar: error: " + c.message), std::string::npos) << c.args << "\n"
+                                                                                   << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "nav"));
+  // The help names the presets the check takes.
+  const auto help = test::run_cli("navigate --help");
+  EXPECT_NE(help.output.find("a multi-beam preset (vlp16, vlp32c, hdl32e, hdl64e, os1-64,"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace fieldlidar

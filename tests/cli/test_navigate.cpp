@@ -103,7 +103,8 @@ TEST(CliNavigate, SensorPreset) {
   EXPECT_NEAR(j["blind_radius_m"].get<double>(), 2.02, 0.01);
   const auto planar = run_cli("navigate --seed 0 --sensor laser2d --out " + quoted(dir / "bad"));
   EXPECT_EQ(planar.exit_code, 1);
-  EXPECT_NE(planar.output.find("below the horizon"), std::string::npos) << planar.output;
+  EXPECT_NE(planar.output.find("--sensor: 'laser2d' is not a multi-beam preset"), std::string::npos)
+      << planar.output;
   const auto unknown = run_cli("navigate --seed 0 --sensor hdl99 --out " + quoted(dir / "bad"));
   EXPECT_EQ(unknown.exit_code, 1);
   EXPECT_NE(unknown.output.find("--sensor"), std::string::npos) << unknown.output;
