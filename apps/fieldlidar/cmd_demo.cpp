@@ -11,6 +11,7 @@
 #include <fmt/core.h>
 
 #include "commands.hpp"
+#include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/label_file.hpp"
 #include "fieldlidar/segmentation/segment.hpp"
@@ -44,9 +45,16 @@ fs::path fresh_folder(const fs::path& base) {
   }
 }
 
+/// The real scan of part 2 and its labels.
+fs::path real_scan(const fs::path& data_dir) {
+  return data_dir / "rellis3d" / "000001.bin";
+}
+fs::path real_labels(const fs::path& data_dir) {
+  return data_dir / "rellis3d" / "000001.label";
+}
+
 void score_real_ground(const fs::path& data_dir) {
-  const fs::path scan = data_dir / "rellis3d" / "000001.bin";
-  const fs::path truth = data_dir / "rellis3d" / "000001.label";
+  const fs::path scan = real_scan(data_dir), truth = real_labels(data_dir);
   if (!fs::exists(scan) || !fs::exists(truth)) {
     fmt::print("\n[2/2] real off-road scan skipped: {} is absent\n", scan.string());
     return;
@@ -86,13 +94,21 @@ void add_demo_command(CLI::App& app) {
       "Run the built-in demonstration (the default job): a simulated mower follows its "
       "operator around a lawn and records the boundary; ground segmentation is scored on "
       "a real scan");
-  cmd->add_option(
-         "--data-dir", opts->data_dir,
-         "Folder of real recorded data ($FIELDLIDAR_DATA_DIR overrides the built-in default)")
-      ->capture_default_str();
+  auto* data_dir =
+      cmd->add_option(
+             "--data-dir", opts->data_dir,
+             "Folder of real recorded data ($FIELDLIDAR_DATA_DIR overrides the built-in default)")
+          ->capture_default_str();
   cmd->add_option("--out", opts->out,
                   "Output folder (default: ./fieldlidar_demo, or _2, _3, ... if that exists)");
-  cmd->callback([opts] {
+  cmd->callback([opts, data_dir] {
+    // A folder given on the command line must hold the real scan: part 2 is skipped quietly only
+    // for the default folder (the environment's or the build's), which may be absent.
+    if (data_dir->count() > 0)
+      for (const auto& f : {real_scan(opts->data_dir), real_labels(opts->data_dir)})
+        if (!fs::is_regular_file(f))
+          throw Error("--data-dir " + opts->data_dir + ": " + f.string() +
+                      " does not exist (the real scan of the demo's part 2)");
     const fs::path out = opts->out.empty() ? fresh_folder("fieldlidar_demo") : fs::path(opts->out);
     fmt::print("[1/2] seed 000: simulated VLP-16 mower follows its operator around a lawn\n");
     FollowOptions follow;

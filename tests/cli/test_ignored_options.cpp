@@ -105,5 +105,18 @@ TEST(CliIgnoredOptions, NavigateAndPlanArgumentsAreCheckedUpFront) {
             std::string::npos);
 }
 
+TEST(CliIgnoredOptions, DemoRefusesADataFolderGivenWithoutTheScan) {
+  const auto dir = test::temp_dir("cli_demo_data");
+  const auto r = test::run_cli("demo --data-dir " + test::quoted(dir / "nonexistent") + " --out " +
+                               test::quoted(dir / "demo"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(
+      r.output.find("fieldlidar: error: --data-dir " + (dir / "nonexistent").string() + ": " +
+                    (dir / "nonexistent" / "rellis3d" / "000001.bin").string() + " does not exist"),
+      std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "demo"));
+}
+
 }  // namespace
 }  // namespace fieldlidar
