@@ -1,3 +1,5 @@
+// Whether a cloud spans more than any scene a ground robot maps (another unit than metres, stray
+// far points): the ground methods refuse it before sizing grids from its extent.
 #include <cstdio>
 #include <optional>
 #include <string>
