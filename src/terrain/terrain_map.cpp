@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <utility>
 #include <vector>
 
@@ -30,8 +31,19 @@ struct TerrainMap::Impl {
 
 namespace {
 
+/// The cell of coordinate v (m); a coordinate a cell index cannot hold (more than 1e9 cells from
+/// the origin: another unit than metres, a pose far off) is an error, not an overflowed int.
 int cell_index(double v, double cell_m) {
-  return int(std::floor(v / cell_m));
+  const double q = std::floor(v / cell_m);
+  if (!(std::abs(q) < 1e9)) {
+    char msg[160];
+    std::snprintf(msg, sizeof msg,
+                  "terrain fusion: a coordinate of %g m lies beyond 1e9 cells of %g m from the "
+                  "map's origin (another unit than metres, or a pose far off?)",
+                  v, cell_m);
+    throw Error(msg);
+  }
+  return int(q);
 }
 
 /// The layers of the w x h cells from index lo on, as a Grid2D (cells never written unknown).

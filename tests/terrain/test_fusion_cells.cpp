@@ -124,6 +124,15 @@ TEST(TerrainFusionCells, BadInputGivesUnknownOrAClearError) {
   EXPECT_EQ(map.add_points(nan, one, {0, 0, 0}).points, 0u);
   EXPECT_EQ(map.global_map().geometry().cell_count(), 0u);
   EXPECT_THROW(map.add_points(nan, none, {0, 0, 0}), Error);
+  // A finite point no cell index can hold (1e30 m: another unit) is named, not cast to int.
+  const std::vector<Eigen::Vector3d> far = {{1e30, 0, 0}};
+  try {
+    map.add_points(far, one, {0, 0, 0});
+    FAIL() << "a point at 1e30 m must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("1e+30 m"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(map.local_map({std::nan(""), 0}, 40.0), Error);
   // No ground at all: a wall of non-ground returns is never free.
   std::vector<Eigen::Vector3d> wall;
   std::vector<std::uint8_t> flags;
