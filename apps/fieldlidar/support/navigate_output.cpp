@@ -72,6 +72,11 @@ std::string plans_geojson(const loops::NavigateResult& r) {
   return fc.dump(1) + "\n";
 }
 
+// The built map's cells that disagree with the truth: blocked though passable (obstacles read
+// wider), passable though impassable (a danger missed).
+constexpr Rgb kBlockedPassable{0.45, 0.35, 0.55};
+constexpr Rgb kMissedImpassable{1.0, 0.85, 0.0};
+
 /// Two panels side by side: the truth (left) and the map built by the robot (right), each with the
 /// plans, the plan on the truth and the driven path.
 void draw(const loops::NavigateResult& r, const std::string& title, const fs::path& png,
@@ -96,11 +101,15 @@ void draw(const loops::NavigateResult& r, const std::string& title, const fs::pa
           passable[i] < 0.5f ? Rgb{0, 0, 0} : Rgb{1.0 - 0.4 * s, 1.0 - 0.2 * s, 1.0 - 0.4 * s});
       const bool known = std::isfinite(tau[i]) && pts[i] > 0.f;
       const bool blocked = imp[i] > 0.5f || (known && tau[i] <= 0.f);
+      const bool free_in_truth = passable[i] >= 0.5f;
       const double t = known ? tau[i] : 0.0;
+      // Where the built map disagrees with the truth (MapAgreement, over the whole map here).
       canvas.cell(right, ix, iy,
-                  blocked  ? Rgb{0, 0, 0}
-                  : !known ? Rgb{0.65, 0.65, 0.65}
-                           : Rgb{1.0 - 0.5 * t, 1.0 - 0.2 * t, 1.0 - 0.5 * t});
+                  blocked && free_in_truth ? kBlockedPassable
+                  : blocked                ? Rgb{0, 0, 0}
+                  : !known                 ? Rgb{0.65, 0.65, 0.65}
+                  : !free_in_truth         ? kMissedImpassable
+                                           : Rgb{1.0 - 0.5 * t, 1.0 - 0.2 * t, 1.0 - 0.5 * t});
     }
   auto both = [&](const std::vector<Eigen::Vector2d>& pts_m, const Rgb& c, double w) {
     canvas.polyline(pts_m, c, w);
@@ -139,7 +148,9 @@ void draw(const loops::NavigateResult& r, const std::string& title, const fs::pa
                  {"plan on the truth", {0.1, 0.7, 0.1}},
                  {"driven", {0.85, 0.1, 0.1}},
                  {"footprint on truth-impassable", {1.0, 0.0, 1.0}},
-                 {"on an obstacle, or tipped", {1.0, 0.55, 0.0}}});
+                 {"on an obstacle, or tipped", {1.0, 0.55, 0.0}},
+                 {"built map: blocked, passable in truth", kBlockedPassable},
+                 {"built map: passable, impassable in truth", kMissedImpassable}});
   canvas.save_png(png, force);
 }
 
