@@ -24,6 +24,7 @@
 #include "fieldlidar/sim/motion.hpp"
 #include "fieldlidar/sim/scenes.hpp"
 #include "support/option_checks.hpp"
+#include "support/progress_line.hpp"
 #include "support/sim_preview.hpp"
 
 namespace fieldlidar::app {
@@ -52,6 +53,23 @@ struct SimulateOptions {
   int extra_walkers = 0;
   double operator_speed = 1.0;
 };
+
+/// Refuses a run whose frames would not fit on the disk under `dir`, judged by its first sweep
+/// (`points` returns): each return takes 44 bytes over its three files (KITTI .bin 16, .label 4,
+/// binary PCD 24), and later sweeps may hold a fifth more.
+void check_disk_space(const fs::path& dir, std::size_t points, int frames) {
+  const double bytes = 1.2 * 44.0 * double(points) * double(frames);
+  fs::path existing = fs::absolute(dir);
+  while (!fs::exists(existing) && existing.has_parent_path() && existing != existing.parent_path())
+    existing = existing.parent_path();
+  std::error_code ec;
+  const fs::space_info space = fs::space(existing, ec);
+  if (!ec && bytes > double(space.available))
+    throw Error(fmt::format(
+        "--frames {}: about {:.1f} GB to write ({} returns in the first sweep), and {} has "
+        "{:.1f} GB free; simulate fewer frames or write elsewhere",
+        frames, bytes / 1e9, points, existing.string(), double(space.available) / 1e9));
+}
 
 void write_text(const fs::path& path, const std::string& text, bool force) {
   io::write_file_atomic(path, text.data(), text.size(), force);
@@ -150,7 +168,6 @@ void run_simulate(const SimulateOptions& o) {
          {"poses.txt", "times.txt", "poses_tum.txt", "imu.csv", "odom.csv", "scene.json",
           "velodyne/000000.bin", "labels/000000.label", "pcd/000000.pcd"})
       if (fs::is_directory((dir / name).parent_path())) io::check_writable(dir / name, o.force);
-  for (const char* sub : {"velodyne", "labels", "pcd"}) fs::create_directories(dir / sub);
 
   const auto t_start = std::chrono::steady_clock::now();
   const sim::Scene scene = build_scene(o, *kind);
@@ -174,9 +191,15 @@ void run_simulate(const SimulateOptions& o) {
   // One PCD schema for every frame, as documented: `time` = s from the sweep start (frame 0 starts
   // at 0 s, the others would get absolute `timestamp`s); the sweep stamps are in times.txt.
   const io::WriteOptions pcd_wo{.overwrite = o.force, .time_offsets = true};
+  ProgressLine progress;
   for (int i = 0; i < o.frames; ++i) {
+    if (i % 10 == 0) progress.show("frame {} of {} ({:.0f} %)", i, o.frames, 100.0 * i / o.frames);
     const double t0 = i * period;
     const auto frame = simulator.scan(t0, motion.lidar_pose_fn());
+    if (i == 0) {  // nothing is written before the run is known to fit
+      check_disk_space(dir, frame.cloud.size(), o.frames);
+      for (const char* sub : {"velodyne", "labels", "pcd"}) fs::create_directories(dir / sub);
+    }
     const std::string name = fmt::format("{:06d}", i);
     io::write_kitti_bin(dir / "velodyne" / (name + ".bin"), frame.cloud, wo);
     io::write_labels(dir / "labels" / (name + ".label"), frame.cloud.labels, wo);
@@ -191,6 +214,7 @@ void run_simulate(const SimulateOptions& o) {
           p.heading_rad, p.legs_m[0].x(), p.legs_m[0].y(), p.legs_m[1].x(), p.legs_m[1].y(),
           p.points);
   }
+  progress.end();
   io::write_kitti_poses(dir / "poses.txt", poses, wo);
   io::write_kitti_times(dir / "times.txt", poses, wo);
   io::write_tum(dir / "poses_tum.txt", poses, wo);

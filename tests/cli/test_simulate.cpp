@@ -111,5 +111,21 @@ TEST(CliSimulate, RejectsBadArguments) {
   EXPECT_NE(r.output.find("--frames"), std::string::npos);
 }
 
+// A run larger than the disk under its folder is refused after one sweep is simulated, before
+// anything is written: 100,000 OS2-128 sweeps of the terrain scene, about 190 GB.
+TEST(CliSimulate, RunLargerThanTheDiskIsRefusedBeforeWriting) {
+  const auto dir = test::temp_dir("simulate_disk");
+  std::error_code ec;
+  const auto space = fs::space(dir, ec);
+  if (ec || space.available > 150'000'000'000ull)
+    GTEST_SKIP() << "the disk holds more than 150 GB free: the run would fit";
+  const auto out = dir / "big";
+  const auto r = test::run_cli("simulate --scene terrain --sensor os2-128 --frames 100000 --out " +
+                               test::quoted(out));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("GB free; simulate fewer frames"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace
 }  // namespace fieldlidar
