@@ -25,6 +25,7 @@
 #include "support/canvas.hpp"
 #include "support/motion_csv.hpp"
 #include "support/option_checks.hpp"
+#include "support/output_folder.hpp"
 #include "support/progress_line.hpp"
 #include "support/sensor_choice.hpp"
 #include "support/warnings.hpp"
@@ -128,7 +129,7 @@ void run_odometry(const OdometryOptions& o) {
   const fs::path out(o.out);
   const std::vector<std::string> names = {"poses.txt", "poses_tum.txt", "map.pcd", "map.png",
                                           "summary.json"};
-  fs::create_directories(out);
+  const OutputFolder folder(out);  // gone again if the input is refused before any output
   for (const auto& n : names) io::check_writable(out / n, o.force);
 
   // A simulator folder: its PCD frames (ring and time), times, IMU and wheel streams.

@@ -129,7 +129,7 @@ TEST(CliOdometry, NonFiniteImuWheelsAndOptionsAreRefused) {
     EXPECT_EQ(r.exit_code, 1) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find("fieldlidar: error: "), std::string::npos) << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
-    EXPECT_FALSE(std::filesystem::exists(out / "poses.txt")) << c.args;
+    EXPECT_FALSE(std::filesystem::exists(out)) << c.args;  // no empty folder left either
   }
 }
 
