@@ -2,11 +2,13 @@
 // cross, and the cells it let the planner use that the truth does not.
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/loops/navigate_maps.hpp"
+#include "fieldlidar/planning/planning_map.hpp"
 
 namespace fieldlidar::loops {
 
@@ -29,9 +31,11 @@ MapAgreement map_agreement(const Grid2D& built, const Grid2D& truth,
   // The cells near the drive: a disc of cells round each pose's cell.
   std::vector<std::uint8_t> near(g.cell_count(), 0);
   const int reach = int(std::ceil(radius_m / g.resolution_m));
+  std::optional<Eigen::Vector2i> last;  // poses 0.1 s apart share cells: one disc per cell run
   for (const auto& p : driven) {
     const auto c = g.cell_of({p.x_m, p.y_m});
-    if (!c) continue;
+    if (!c || c == last) continue;
+    last = c;
     for (int dy = -reach; dy <= reach; ++dy)
       for (int dx = -reach; dx <= reach; ++dx)
         if (g.contains(c->x() + dx, c->y() + dy) && std::hypot(dx, dy) * g.resolution_m <= radius_m)
@@ -39,6 +43,7 @@ MapAgreement map_agreement(const Grid2D& built, const Grid2D& truth,
   }
   const auto tau = built.layer(L::kTraversability), imp = built.layer(L::kImpassable);
   const bool has_points = built.has_layer(L::kPoints);
+  const auto points = has_points ? built.layer(L::kPoints) : decltype(tau){};
   const auto passable = truth.layer("passable");
   const auto truth_blocked = [&](int x, int y) {
     return g.contains(x, y) && passable[g.linear_index(x, y)] < 0.5f;
@@ -47,19 +52,19 @@ MapAgreement map_agreement(const Grid2D& built, const Grid2D& truth,
     for (int x = 0; x < g.width; ++x) {
       const std::size_t i = g.linear_index(x, y);
       if (!near[i]) continue;
-      const bool blocked = imp[i] > 0.5f;
-      const bool seen = !has_points || built.layer(L::kPoints)[i] > 0.0f;
-      if (!blocked && !(std::isfinite(tau[i]) && seen)) continue;  // unknown to the map
+      const planning::CellRead read =
+          planning::read_cell(tau[i], imp[i], has_points ? points[i] : 1.0f);
+      if (read == planning::CellRead::kUnknown) continue;
       ++out.known_cells;
       const bool free_in_truth = passable[i] >= 0.5f;
       out.truth_passable += free_in_truth;
-      if (free_in_truth && (blocked || tau[i] <= 0.0f)) {
+      if (free_in_truth && read == planning::CellRead::kBlocked) {
         ++out.passable_blocked;
         bool beside = false;
         for (int dy = -1; dy <= 1 && !beside; ++dy)
           for (int dx = -1; dx <= 1 && !beside; ++dx) beside = truth_blocked(x + dx, y + dy);
         out.passable_blocked_beside_impassable += beside;
-      } else if (!free_in_truth && !blocked && tau[i] > 0.0f) {
+      } else if (!free_in_truth && read == planning::CellRead::kPassable) {
         ++out.impassable_passable;
       }
     }

@@ -74,21 +74,22 @@ PlanningMap::PlanningMap(const Grid2D& map, const terrain::RobotConfig& robot,
 
   const auto tau = map.layer(L::kTraversability);
   const bool has_imp = map.has_layer(L::kImpassable), has_pts = map.has_layer(L::kPoints);
+  const auto imp = has_imp ? map.layer(L::kImpassable) : decltype(tau){};
+  const auto pts = has_pts ? map.layer(L::kPoints) : decltype(tau){};
   const std::size_t n = geometry_.cell_count();
   tau_.assign(n, float(config.unknown_tau));
   blocked_.assign(n, 0);
   known_.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const bool unknown = !std::isfinite(tau[i]) || (has_pts && !(map.layer(L::kPoints)[i] > 0.0f));
-    const bool impassable = has_imp && map.layer(L::kImpassable)[i] > 0.5f;
-    if (unknown && !impassable) {
+    const CellRead read = read_cell(tau[i], has_imp ? imp[i] : 0.0f, has_pts ? pts[i] : 1.0f);
+    if (read == CellRead::kUnknown) {
       blocked_[i] = !config.allow_unknown;
       continue;
     }
     known_[i] = 1;
     ++known_cells_;
     tau_[i] = std::clamp(std::isfinite(tau[i]) ? tau[i] : 0.0f, 0.0f, 1.0f);
-    blocked_[i] = impassable || tau_[i] <= 0.0f;  // seed 004, f31: tau = 0 is not driven on
+    blocked_[i] = read == CellRead::kBlocked;
   }
   build_masks();
   build_distance_field();

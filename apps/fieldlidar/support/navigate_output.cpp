@@ -6,6 +6,7 @@
 
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/nav2_map.hpp"
+#include "fieldlidar/planning/planning_map.hpp"
 #include "support/canvas.hpp"
 #include "support/planar_paths.hpp"
 
@@ -99,17 +100,16 @@ void draw(const loops::NavigateResult& r, const std::string& title, const fs::pa
       canvas.cell(
           g, ix, iy,
           passable[i] < 0.5f ? Rgb{0, 0, 0} : Rgb{1.0 - 0.4 * s, 1.0 - 0.2 * s, 1.0 - 0.4 * s});
-      const bool known = std::isfinite(tau[i]) && pts[i] > 0.f;
-      const bool blocked = imp[i] > 0.5f || (known && tau[i] <= 0.f);
+      const planning::CellRead read = planning::read_cell(tau[i], imp[i], pts[i]);
       const bool free_in_truth = passable[i] >= 0.5f;
-      const double t = known ? tau[i] : 0.0;
+      const double t = read == planning::CellRead::kPassable ? tau[i] : 0.0;
       // Where the built map disagrees with the truth (MapAgreement, over the whole map here).
       canvas.cell(right, ix, iy,
-                  blocked && free_in_truth ? kBlockedPassable
-                  : blocked                ? Rgb{0, 0, 0}
-                  : !known                 ? Rgb{0.65, 0.65, 0.65}
-                  : !free_in_truth         ? kMissedImpassable
-                                           : Rgb{1.0 - 0.5 * t, 1.0 - 0.2 * t, 1.0 - 0.5 * t});
+                  read == planning::CellRead::kBlocked
+                      ? (free_in_truth ? kBlockedPassable : Rgb{0, 0, 0})
+                  : read == planning::CellRead::kUnknown ? Rgb{0.65, 0.65, 0.65}
+                  : !free_in_truth                       ? kMissedImpassable
+                                   : Rgb{1.0 - 0.5 * t, 1.0 - 0.2 * t, 1.0 - 0.5 * t});
     }
   auto both = [&](const std::vector<Eigen::Vector2d>& pts_m, const Rgb& c, double w) {
     canvas.polyline(pts_m, c, w);

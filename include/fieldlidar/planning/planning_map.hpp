@@ -2,6 +2,7 @@
 /// \file The traversability map as the planner sees it: per-cell tau and blocked flags, the
 /// robot's oriented-rectangle footprint as precomputed cell offsets, and a distance field.
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -20,6 +21,17 @@ struct MapReadConfig {
   /// Extra clearance (m) added on every side of the robot's rectangle.
   double footprint_margin_m = 0.05;
 };
+
+/// How a cell of a traversability map reads: impassable when its layer says so (seen or not),
+/// unknown without a traversability or without a return behind it, else blocked at tau <= 0 (seed
+/// 004, f31: tau = 0 is not driven on) or passable. Without an impassable layer pass 0, without a
+/// points layer 1.
+enum class CellRead { kUnknown, kBlocked, kPassable };
+inline CellRead read_cell(float tau, float impassable, float points) {
+  if (impassable > 0.5f) return CellRead::kBlocked;
+  if (!std::isfinite(tau) || !(points > 0.0f)) return CellRead::kUnknown;
+  return tau <= 0.0f ? CellRead::kBlocked : CellRead::kPassable;
+}
 
 /// Footprint masks: one per heading bin and per position of the centre within its cell
 /// (kSubcells x kSubcells). Each holds the cells that the rectangle (inflated by the margin, by
