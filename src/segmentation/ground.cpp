@@ -10,8 +10,10 @@ namespace fieldlidar::segmentation {
 
 GroundResult segment_ground(const PointCloud& cloud, const SensorModel& sensor,
                             const GroundConfig& config) {
-  // Far-flung coordinates would leave every point out of the sensor's reach (no ground, said
-  // nowhere) or overflow the grid's cell indices.
+  // The grid ground checks the span from the bounds it takes anyway.
+  if (config.method == GroundMethod::kGrid) return ground_grid(cloud, config.grid);
+  // Far-flung coordinates would leave every point out of the sensor's reach: no ground, said
+  // nowhere.
   if (const auto why = implausible_span(cloud)) throw Error("ground: " + *why);
   switch (config.method) {
     case GroundMethod::kSeed000:
@@ -19,7 +21,6 @@ GroundResult segment_ground(const PointCloud& cloud, const SensorModel& sensor,
     case GroundMethod::kSeed002:
       return ground_seed002(cloud, sensor, config.seed002);
     case GroundMethod::kGrid:
-      return ground_grid(cloud, config.grid);
     case GroundMethod::kRobust:
       break;
   }

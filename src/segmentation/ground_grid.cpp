@@ -128,7 +128,7 @@ GroundResult ground_grid(const PointCloud& cloud, const GridGroundConfig& config
       ++valid;
     }
   if (b.empty()) return result;
-  if (const auto why = implausible_span(cloud)) throw Error("grid ground: " + *why);
+  if (const auto why = implausible_span(b)) throw Error("grid ground: " + *why);
   GridGroundConfig config = config_in;
   if (config.cell_m == 0) {
     const double area = std::max(1.0, (b.max.x() - b.min.x()) * (b.max.y() - b.min.y()));

@@ -9,7 +9,10 @@
 namespace fieldlidar::segmentation {
 
 std::optional<std::string> implausible_span(const PointCloud& cloud) {
-  const Bounds3 b = compute_bounds(cloud);
+  return implausible_span(compute_bounds(cloud));
+}
+
+std::optional<std::string> implausible_span(const Bounds3& b) {
   if (b.empty()) return std::nullopt;
   const Eigen::Vector3d span = b.max - b.min;
   // Compared negated so that a span of inf (or NaN) is refused too.

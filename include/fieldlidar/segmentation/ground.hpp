@@ -262,6 +262,8 @@ inline constexpr double kMaxSceneSpanM = 1e6;
 /// Why `cloud` is no scene to segment when its valid points span more than kMaxSceneSpanM
 /// ("the points span 2e+30 x 1e+30 x 3 m, more than 1e+06 m: ..."); nullopt when it is one.
 std::optional<std::string> implausible_span(const PointCloud& cloud);
+/// The same from the valid points' bounds (compute_bounds), when the caller has them.
+std::optional<std::string> implausible_span(const Bounds3& bounds);
 
 /// Ground flags for every point of `cloud` (invalid points are never ground). Throws
 /// fieldlidar::Error for a cloud of implausible_span().
