@@ -1,7 +1,5 @@
 #include "support/motion_csv.hpp"
 
-#include <charconv>
-#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -9,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "fieldlidar/core/error.hpp"
+#include "support/csv_number.hpp"
 
 namespace fieldlidar::app {
 
@@ -44,17 +43,7 @@ std::vector<std::vector<double>> read_csv(const fs::path& path) {
       const std::size_t column = row.size();
       const std::string name =
           column < names.size() ? names[column] : fmt::format("column {}", column + 1);
-      // from_chars takes no leading '+', which other writers may put before a number.
-      const char* first = cell.data() + (cell.size() > 1 && cell[0] == '+');
-      double v = 0;
-      const auto [end, ec] = std::from_chars(first, cell.data() + cell.size(), v);
-      if (ec != std::errc() || end != cell.data() + cell.size() || cell.empty())
-        throw Error(
-            fmt::format("{}: line {}: {} '{}' is not a number", path.string(), n, name, cell));
-      if (!std::isfinite(v))
-        throw Error(fmt::format("{}: line {}: {} is {}, not a finite number", path.string(), n,
-                                name, cell));
-      row.push_back(v);
+      row.push_back(csv_number(cell, path, std::size_t(n), name, true));
     }
     rows.push_back(std::move(row));
   }

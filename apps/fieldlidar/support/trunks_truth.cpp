@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <iterator>
 #include <string>
@@ -13,6 +12,7 @@
 #include "fieldlidar/core/error.hpp"
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/trajectory_io.hpp"
+#include "support/csv_number.hpp"
 
 namespace fieldlidar::app {
 
@@ -41,15 +41,7 @@ std::vector<TrueTree> read_true_trees(const std::filesystem::path& path) {
     while (v.size() < std::size(kColumns)) {
       const std::size_t b = row.find(',', a);
       const std::string cell = row.substr(a, b == std::string::npos ? b : b - a);
-      double x = 0;
-      const auto [p, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), x);
-      if (ec != std::errc() || p != cell.data() + cell.size() || cell.empty())
-        throw Error(fmt::format("{}: line {}: {} '{}' is not a number", path.string(), line,
-                                kColumns[v.size()], cell));
-      if (!std::isfinite(x))
-        throw Error(fmt::format("{}: line {}: {} is {}, not a finite number", path.string(), line,
-                                kColumns[v.size()], cell));
-      v.push_back(x);
+      v.push_back(csv_number(cell, path, line, kColumns[v.size()]));
       if (b == std::string::npos) break;
       a = b + 1;
     }
