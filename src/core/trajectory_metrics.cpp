@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <string>
 
@@ -20,13 +19,6 @@ constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 /// sums of squared errors and the alignment's covariance overflow (|t| ~ 1e150 m): a translation
 /// beyond it is a broken file, and would give inf or NaN metrics, or a Sim(3) scale of 0.
 constexpr double kMaxTranslationM = 1e9;
-
-/// `v` as printf's %g ("1e+300", not 301 digits).
-std::string short_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 void check_poses(const std::vector<Pose>& poses, const char* name) {
   for (std::size_t i = 0; i < poses.size(); ++i) {

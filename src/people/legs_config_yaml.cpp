@@ -1,7 +1,6 @@
 // YAML form of the leg detector config (the seed's feature library as a file's text). Only text
 // is handled here: reading and writing files is the caller's job.
 
-#include <cstdio>
 #include <numbers>
 #include <string>
 
@@ -61,29 +60,26 @@ void check_legs(const LegDetectorConfig& c, const std::string& source) {
   auto need = [&](bool ok, const std::string& what) {
     if (!ok) throw Error(source + ": leg detector setting " + what);
   };
-  auto value = [](double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return std::string(buf);
-  };
   // L_k / D_k >= 1 for any arc (a path is no shorter than its chord): delta_c <= 1 takes none.
-  need(c.curve_max > 1, "curve_max " + value(c.curve_max) + " must be above 1");
-  need(c.path_min_m >= 0 && c.path_min_m < c.path_max_m, "path_min_m " + value(c.path_min_m) +
-                                                             " must be >= 0 and below path_max_m " +
-                                                             value(c.path_max_m));
+  need(c.curve_max > 1, "curve_max " + short_number(c.curve_max) + " must be above 1");
+  need(c.path_min_m >= 0 && c.path_min_m < c.path_max_m,
+       "path_min_m " + short_number(c.path_min_m) + " must be >= 0 and below path_max_m " +
+           short_number(c.path_max_m));
   need(c.pair_distance_max_m > 0,
-       "pair_distance_max_m " + value(c.pair_distance_max_m) + " must be positive");
+       "pair_distance_max_m " + short_number(c.pair_distance_max_m) + " must be positive");
   // 0 would keep the zero-range returns scanners report for "no echo".
-  need(c.range_min_m > 0, "range_min_m " + value(c.range_min_m) + " must be positive");
-  need(c.range_max_m > c.range_min_m, "range_max_m " + value(c.range_max_m) +
-                                          " must be above range_min_m " + value(c.range_min_m));
+  need(c.range_min_m > 0, "range_min_m " + short_number(c.range_min_m) + " must be positive");
+  need(c.range_max_m > c.range_min_m, "range_max_m " + short_number(c.range_max_m) +
+                                          " must be above range_min_m " +
+                                          short_number(c.range_min_m));
   need(c.min_rings >= 1, "min_rings " + std::to_string(c.min_rings) + " must be at least 1");
-  need(c.segment_jump_m > 0, "segment_jump_m " + value(c.segment_jump_m) + " must be positive");
+  need(c.segment_jump_m > 0,
+       "segment_jump_m " + short_number(c.segment_jump_m) + " must be positive");
   need(c.leg_merge_radius_m > 0,
-       "leg_merge_radius_m " + value(c.leg_merge_radius_m) + " must be positive");
+       "leg_merge_radius_m " + short_number(c.leg_merge_radius_m) + " must be positive");
   need(c.split_azimuth_gap_rad >= 0 && c.split_azimuth_gap_rad <= 2 * std::numbers::pi,
-       "split_azimuth_gap_rad " + value(c.split_azimuth_gap_rad) + " must lie in [0, 2 pi]");
-  need(c.path_step_m >= 0, "path_step_m " + value(c.path_step_m) + " must not be negative");
+       "split_azimuth_gap_rad " + short_number(c.split_azimuth_gap_rad) + " must lie in [0, 2 pi]");
+  need(c.path_step_m >= 0, "path_step_m " + short_number(c.path_step_m) + " must not be negative");
   // Centred on each point, so odd; a leg arc holds tens of returns, so a window of a hundred
   // already averages it flat.
   need(c.smooth_window >= 1 && c.smooth_window <= kMaxSmoothWindow && c.smooth_window % 2 == 1,
@@ -92,23 +88,23 @@ void check_legs(const LegDetectorConfig& c, const std::string& source) {
   need(c.min_points >= 1 && c.min_points <= kMaxArcPoints,
        "min_points " + std::to_string(c.min_points) + " must lie in [1, " +
            std::to_string(kMaxArcPoints) + "]");
-  need(c.chord_max_m > 0, "chord_max_m " + value(c.chord_max_m) + " must be positive");
+  need(c.chord_max_m > 0, "chord_max_m " + short_number(c.chord_max_m) + " must be positive");
   // The bounds of an addition that is off are not read: only their sign is checked, so that a
   // file may switch a test off without tending its bounds.
-  need(c.radius_min_m >= 0 && c.radius_max_m > 0, "radius_min_m " + value(c.radius_min_m) +
-                                                      " and radius_max_m " + value(c.radius_max_m) +
-                                                      " must be >= 0 and positive");
+  need(c.radius_min_m >= 0 && c.radius_max_m > 0,
+       "radius_min_m " + short_number(c.radius_min_m) + " and radius_max_m " +
+           short_number(c.radius_max_m) + " must be >= 0 and positive");
   need(!c.use_circle_fit || c.radius_min_m < c.radius_max_m,
-       "radius_min_m " + value(c.radius_min_m) + " must be below radius_max_m " +
-           value(c.radius_max_m) + " (use_circle_fit)");
+       "radius_min_m " + short_number(c.radius_min_m) + " must be below radius_max_m " +
+           short_number(c.radius_max_m) + " (use_circle_fit)");
   need(c.circle_rms_max_m > 0,
-       "circle_rms_max_m " + value(c.circle_rms_max_m) + " must be positive");
-  need(c.curve_min >= 0, "curve_min " + value(c.curve_min) + " must not be negative");
-  need(!c.use_curve_min || c.curve_min < c.curve_max, "curve_min " + value(c.curve_min) +
-                                                          " must be below curve_max " +
-                                                          value(c.curve_max) + " (use_curve_min)");
+       "circle_rms_max_m " + short_number(c.circle_rms_max_m) + " must be positive");
+  need(c.curve_min >= 0, "curve_min " + short_number(c.curve_min) + " must not be negative");
+  need(!c.use_curve_min || c.curve_min < c.curve_max,
+       "curve_min " + short_number(c.curve_min) + " must be below curve_max " +
+           short_number(c.curve_max) + " (use_curve_min)");
   need(c.foreground_margin_m >= 0,
-       "foreground_margin_m " + value(c.foreground_margin_m) + " must not be negative");
+       "foreground_margin_m " + short_number(c.foreground_margin_m) + " must not be negative");
 }
 
 }  // namespace
