@@ -57,14 +57,24 @@ struct NavigateOptions {
   bool force = false;
 };
 
-/// The sensor presets the loop drives with: multi-beam LiDARs whose lowest beams see the ground
-/// (tilting2d, a nodding 2D scanner, and laser2d are not).
-constexpr const char* kMultiBeamPresets[] = {"vlp16",  "vlp32c",  "hdl32e", "hdl64e",
-                                             "os1-64", "os1-128", "os2-128"};
+/// The sensor presets the loop drives with (loops::check_navigate_sensor): the spinning
+/// multi-beam LiDARs, not the 2D lasers.
+std::vector<std::string> navigate_presets() {
+  std::vector<std::string> names;
+  for (const auto& name : SensorModel::preset_names()) {
+    try {
+      loops::check_navigate_sensor(*SensorModel::preset(name));
+    } catch (const Error&) {
+      continue;
+    }
+    names.push_back(name);
+  }
+  return names;
+}
 
-std::string multi_beam_list() {
+std::string navigate_preset_list() {
   std::string list;
-  for (const char* k : kMultiBeamPresets) list += (list.empty() ? "" : ", ") + std::string(k);
+  for (const auto& k : navigate_presets()) list += (list.empty() ? "" : ", ") + k;
   return list;
 }
 
@@ -243,14 +253,14 @@ void add_navigate_command(CLI::App& app) {
   cmd->add_option("--goal", o->goal,
                   "Goal pose x,y,yaw (m, m, rad; scene frame); default: the scene route's end");
   cmd->add_option("--sensor", o->sensor,
-                  "The robot's LiDAR, a multi-beam preset (" + multi_beam_list() +
+                  "The robot's LiDAR, a multi-beam preset (" + navigate_preset_list() +
                       ") on the scene's 1.2 m mast; its lowest beam sets the blind disk")
       ->capture_default_str()
       ->check(CLI::Validator(
           [](std::string& name) -> std::string {
-            for (const char* k : kMultiBeamPresets)
+            for (const auto& k : navigate_presets())
               if (name == k) return {};
-            return "'" + name + "' is not a multi-beam preset (" + multi_beam_list() + ")";
+            return "'" + name + "' is not a multi-beam preset (" + navigate_preset_list() + ")";
           },
           ""));
   cmd->add_option("--robot", o->robot,

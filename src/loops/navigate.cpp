@@ -54,6 +54,12 @@ bool finite(const planning::Pose2& p) {
 }  // namespace
 
 void check_navigate_sensor(const SensorModel& sensor) {
+  // A nodding 2D scanner has planes below the horizon too, but sweeps them over a second or more
+  // and only ahead: the loop's blind disk and sweep-by-sweep fusion assume a spinning LiDAR.
+  if (sensor.kind != SensorModel::Kind::kSpinning)
+    throw Error("navigate: sensor " + sensor.name +
+                " is a 2D laser, not a spinning multi-beam LiDAR: the loop maps the ground with "
+                "one");
   if (sensor.rings() < 2 || !(sensor.beam_altitudes_rad.front() < -0.01))
     throw Error(fmt::format(
         "navigate: sensor {} has {} beam(s), the lowest at {:.1f} deg: the loop maps the ground "

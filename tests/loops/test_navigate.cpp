@@ -71,6 +71,9 @@ TEST(Navigate, BadInputIsAnError) {
   // A planar laser sees no ground to map.
   EXPECT_THROW(loops::run_navigate(scene0(), SensorModel::laser_2d(), {3, 20, 0}, {8, 20, 0}),
                Error);
+  // A nodding 2D laser has planes below the horizon, but it is no spinning LiDAR.
+  EXPECT_THROW(loops::check_navigate_sensor(SensorModel::tilting_2d()), Error);
+  EXPECT_NO_THROW(loops::check_navigate_sensor(SensorModel::os1_64()));
   // Each setting alone, on the defaults otherwise.
   const auto rejected = [](const char* what, auto set) {
     loops::NavigateConfig bad;

@@ -328,8 +328,8 @@ struct NavigateResult {
   MapAgreement map_agreement;
 };
 
-/// Throws fieldlidar::Error unless `sensor` can map the ground for the loop: a multi-beam LiDAR
-/// whose lowest beam points below the horizon.
+/// Throws fieldlidar::Error unless `sensor` can map the ground for the loop: a spinning
+/// multi-beam LiDAR whose lowest beam points below the horizon.
 void check_navigate_sensor(const SensorModel& sensor);
 
 /// Drives from `start` to `goal` on `scene` (a terrain scene). Throws fieldlidar::Error on an
