@@ -22,6 +22,7 @@
 #include "fieldlidar/sim/lidar_simulator.hpp"
 #include "fieldlidar/sim/scenes.hpp"
 #include "support/option_checks.hpp"
+#include "support/tracking_truth.hpp"
 #include "support/warnings.hpp"
 
 namespace fieldlidar::app {
@@ -45,6 +46,11 @@ struct TrainOptions {
   bool classifier_asked = false;  ///< --classifier given on the command line (not the default)
   int rounds = 200;
   std::vector<std::string> exclude_features;
+  std::vector<std::string> people_bags;  ///< leg_tracker/Person annotated bags
+  std::string people_topic = "/ground_truth_people_tracks";
+  std::string people_scan_topic;          ///< "": the bag's only scan topic
+  std::vector<std::size_t> people_scans;  ///< first, last scan used (0-based; empty: all)
+  double person_radius_m = 0.4;
   people::SegmentAugmentationConfig augment;  // off: measured not to help (docs/people.md)
 };
 
@@ -114,6 +120,35 @@ void collect(const std::string& bag, const std::string& topic,
   warn_source_losses(*src);
 }
 
+/// Leg samples from a bag annotated with persons (leg_tracker/Person, one position per person, as
+/// the leg_tracker benchmarks annotate): in the annotated scans FIRST..LAST, a segment whose mean
+/// lies within `o.person_radius_m` of a person is a leg (one leg, or both seen as one). Like the
+/// leg-annotated bags, only legs: such bags annotate people in a region only.
+void collect_people(const std::string& bag, const TrainOptions& o,
+                    const people::LegDetectorConfig& base, people::SegmentSamples& samples,
+                    std::size_t& scans) {
+  const TrackingTruth truth = bag_person_truth(bag, o.people_scan_topic, o.people_topic);
+  const std::size_t n = truth.persons.size();
+  const std::size_t first = o.people_scans.empty() ? 0 : o.people_scans[0];
+  const std::size_t last = o.people_scans.empty() ? n : o.people_scans[1] + 1;
+  if (first >= last || last > n)
+    throw Error(fmt::format("--people-scans {}:{}: expected FIRST <= LAST < {} (the scans of {})",
+                            first, last - 1, n, bag));
+  io::SourceOptions so;
+  so.topic = truth.topic;
+  auto src = io::FrameSource::open(bag, so);
+  while (auto f = src->next()) {
+    if (f->index < first || f->index >= last || truth.persons[f->index].empty()) continue;
+    ++scans;
+    std::vector<Eigen::Vector2d> persons;
+    for (const auto& p : truth.persons[f->index]) persons.push_back(p.position_m);
+    people::collect_segment_samples(people::scan_points_2d(f->cloud), persons, base.range_min_m,
+                                    base.range_max_m, base.segment_jump_m, o.person_radius_m,
+                                    kFarFromLegM, samples, /*negatives=*/false, o.augment);
+  }
+  warn_source_losses(*src);
+}
+
 /// A name of segment_feature_names(); any other fails while the command line is parsed, before
 /// any bag is read (the classifier would refuse it only once trained on negatives).
 CLI::Validator segment_feature() {
@@ -144,6 +179,9 @@ void run_train(const TrainOptions& o) {
         "legs-train: --positive (2D scans) and --sim-frames (3D sweeps) train different "
         "configs; give one of them");
   const bool sim3d = o.sim_frames > 0;
+  require(o.people_bags.empty() || (!sim3d && o.classifier && !o.negative.empty()), "--people",
+          "the persons' legs only train the 2D leg classifier: give --positive and --negative "
+          "bags too (and not --no-classifier)");
   require(sim3d || !o.classifier_asked || !o.negative.empty(), "--classifier",
           "the leg classifier learns from scans without people too: give --negative bags (or "
           "--no-classifier for the config's bounds alone)");
@@ -157,6 +195,10 @@ void run_train(const TrainOptions& o) {
   for (const auto& bag : o.positive)
     collect(bag, o.scan_topic, io::read_pose_arrays(bag, o.truth_topic), base, o.match_radius_m,
             arcs, pairs, pos_scans, samples, true, o.augment, &steps);
+  std::size_t people_scans = 0;
+  const std::size_t legs_before_people = samples.is_leg.size();
+  for (const auto& bag : o.people_bags) collect_people(bag, o, base, samples, people_scans);
+  const std::size_t people_legs = samples.is_leg.size() - legs_before_people;
   for (const auto& bag : o.negative) {
     std::vector<std::string> topics = o.negative_topics;
     if (topics.empty())
@@ -214,6 +256,9 @@ void run_train(const TrainOptions& o) {
     model_yaml =
         fmt::format("# trained by fieldlidar legs-train on {} leg and {} other segments\n",
                     model_legs, samples.is_leg.size() - model_legs) +
+        (people_legs > 0 ? fmt::format("# ({} of the legs from {} person-annotated scans)\n",
+                                       people_legs, people_scans)
+                         : std::string()) +
         (a.copies > 0 ? fmt::format("# ({} re-seen copies per segment: range x {:g}..{:g}, width x "
                                     "{:g}..{:g}, range noise {:g} m)\n",
                                     a.copies, a.range_factor_min, a.range_factor_max,
@@ -257,6 +302,27 @@ void add_legs_train_command(CLI::App& app) {
       ->check(whole_in(1, 100000));
   cmd->add_option("--sensor", o->sensor, "Sensor preset for --sim-frames")->capture_default_str();
   cmd->add_option("--negative", o->negative, "Bags of scans without people");
+  auto* people_opt =
+      cmd->add_option("--people", o->people_bags,
+                      "2D classifier: more legs from bags with leg_tracker/Person annotations (a "
+                      "site's own recordings, annotated as for eval-tracking): segments near an "
+                      "annotated person are legs");
+  cmd->add_option("--people-topic", o->people_topic, "Person annotation topic of --people bags")
+      ->capture_default_str()
+      ->needs(people_opt);
+  cmd->add_option("--people-scan-topic", o->people_scan_topic,
+                  "Scan topic of --people bags (default: the only scan topic)")
+      ->needs(people_opt);
+  cmd->add_option("--people-scans", o->people_scans,
+                  "Use only scans FIRST..LAST of --people bags (0-based, inclusive), e.g. to keep "
+                  "the rest for eval-tracking --scans")
+      ->expected(2)
+      ->needs(people_opt);
+  cmd->add_option("--person-radius", o->person_radius_m,
+                  "A segment whose mean is within this of an annotated person is a leg (m)")
+      ->capture_default_str()
+      ->check(real_above(0, 1))
+      ->needs(people_opt);
   cmd->add_option("--scan-topic", o->scan_topic, "Scan topic of the positive bags")
       ->capture_default_str();
   cmd->add_option("--truth-topic", o->truth_topic, "PoseArray topic of the annotated legs")
