@@ -20,6 +20,7 @@
 #include "fieldlidar/loops/closed_loop.hpp"
 #include "follow_job.hpp"
 #include "support/follow_replay_picture.hpp"
+#include "support/frame_clock.hpp"
 #include "support/legs_runner.hpp"
 #include "support/option_checks.hpp"
 #include "support/progress_line.hpp"
@@ -142,6 +143,8 @@ void run_follow_replay(const FollowOptions& o) {
   std::string topic;
   std::optional<double> max_time_end;
   ProgressLine progress;
+  FrameClock clock(
+      o.replay, "a folder of frames takes its clock from a KITTI-style times.txt in or beside it");
   while (auto frame = source->next()) {
     if (!replay) {
       if (follow::is_planar_scan(frame->cloud)) cfg.legs_2d = legs.config_2d();
@@ -153,6 +156,7 @@ void run_follow_replay(const FollowOptions& o) {
       if (o.max_time_s > 0) max_time_end = frame->stamp_s + o.max_time_s;
     }
     if (frame->index < times.size()) frame->stamp_s = frame->cloud.stamp_s = times[frame->index];
+    clock.check(*frame);
     if (max_time_end && frame->stamp_s > *max_time_end) break;
     std::optional<Pose> pose;
     if (motion) pose = pose_at(*motion, frame->stamp_s);

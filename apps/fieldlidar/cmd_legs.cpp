@@ -44,6 +44,7 @@ struct LegsOptions {
   std::vector<double> occupied_leg;
   bool no_classifier = false;
   bool force = false;
+  double rate_hz = 0;  ///< > 0: frames stamped at this rate from the first one's stamp
 };
 
 void run_legs(const LegsOptions& o) {
@@ -82,9 +83,14 @@ void run_legs(const LegsOptions& o) {
   std::set<long long> person_ids;  // distinct tracked persons
   people::MatchCounts counts;
   char buf[160];
+  std::optional<double> first_stamp_s;
   while (auto frame = source->next()) {
     ++frames;
     points += frame->cloud.size();
+    if (o.rate_hz > 0) {  // frames without a clock of their own (e.g. KITTI tracking sweeps)
+      if (!first_stamp_s) first_stamp_s = frame->stamp_s;
+      frame->stamp_s = frame->cloud.stamp_s = *first_stamp_s + double(frame->index) / o.rate_hz;
+    }
     const auto found = runner.process(*frame, *source);
     const auto& leg_pos = found.legs;
     const auto& person_pos = found.persons;
@@ -146,6 +152,10 @@ void add_legs_command(CLI::App& app) {
       "legs", "Detect legs and people (and track people) in 2D scans or 3D sweeps");
   cmd->add_option("input", o->input, "Bag, capture or cloud files")->required();
   cmd->add_option("--topic", o->topic, "Bag topic of the scans");
+  cmd->add_option("--rate", o->rate_hz,
+                  "Stamp the frames at this rate (Hz) from the first one's stamp, for frames "
+                  "without a clock (a folder of frames with no times.txt in or beside it)")
+      ->check(real_above(0, 1e4));
   cmd->add_option("--out", o->out, "Detections CSV (stamp,kind,x,y,track_id)")->required();
   cmd->add_option("--config", o->config,
                   "Leg detector YAML (from legs-train; default for 2D scans: the shipped "

@@ -51,6 +51,7 @@ struct SimulateOptions {
   // Lawn scenario options.
   bool crossing = false, stops = false, too_fast = false, behind_shed = false, waits = false;
   int extra_walkers = 0;
+  double rough = 0;
   double operator_speed = 1.0;
 };
 
@@ -84,6 +85,7 @@ sim::Scene build_scene(const SimulateOptions& o, sim::SceneKind kind) {
   cfg.operator_behind_shed = o.behind_shed;
   cfg.operator_waits_at_start = o.waits;
   cfg.extra_walkers = o.extra_walkers;
+  cfg.roughness_m = o.rough;
   cfg.operator_speed_m_s = o.operator_speed;
   return sim::make_lawn_scene(cfg, o.seed);
 }
@@ -310,6 +312,11 @@ void add_simulate_command(CLI::App& app) {
                 "lawn: the operator's path passes behind the shed");
   cmd->add_flag("--operator-waits", o->waits,
                 "lawn: the operator stands still for 5 s before walking off");
+  cmd->add_option("--rough", o->rough,
+                  "lawn: amplitude of short bumps over the ground (tussocks and ruts, 2-4 m "
+                  "wavelengths; m, 0: a mown lawn; 0.06 tilts the mower by up to ~8 deg)")
+      ->capture_default_str()
+      ->check(real_in(0, 0.3));
   cmd->add_option("--extra-walkers", o->extra_walkers, "lawn: people strolling at random")
       ->capture_default_str()
       ->check(whole_in(0, 50));

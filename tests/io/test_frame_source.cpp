@@ -1,5 +1,8 @@
 // FrameSource over cloud files: single file, folder and glob in name order; dispatch errors.
+#include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -43,6 +46,37 @@ TEST(FrameSource, FolderAndGlobIterateInNameOrder) {
   while (auto f = glob->next()) sizes.push_back(f->cloud.size());
   EXPECT_EQ(sizes, (std::vector<std::size_t>{1, 2, 3}));
   EXPECT_THROW(io::FrameSource::open(dir / "zzz_*.bin"), Error);
+}
+
+// A sequence folder's clock: KITTI's times.txt beside velodyne/ (and a simulator's beside pcd/), or
+// one inside the folder; one that lists another number of frames is named and not used.
+TEST(FrameSource, FolderFramesAreStampedByTheSequencesTimesFile) {
+  const auto seq = test::temp_dir("frame_source_times");
+  const auto dir = seq / "velodyne";
+  std::filesystem::create_directories(dir);
+  for (int k = 0; k < 3; ++k) write_bin(dir / ("00000" + std::to_string(k) + ".bin"), k, 1);
+  const auto stamps = [](const std::filesystem::path& p, std::vector<std::string>* warnings) {
+    auto src = io::FrameSource::open(p);
+    std::vector<double> out;
+    while (auto f = src->next()) {
+      EXPECT_DOUBLE_EQ(f->stamp_s, f->cloud.stamp_s);
+      out.push_back(f->stamp_s);
+    }
+    if (warnings) *warnings = src->warnings();
+    return out;
+  };
+  EXPECT_EQ(stamps(dir, nullptr), (std::vector<double>{0, 0, 0}));  // no clock: the files' own
+  std::ofstream(seq / "times.txt") << "0.0\n0.103\n0.2\n";
+  EXPECT_EQ(stamps(dir, nullptr), (std::vector<double>{0, 0.103, 0.2}));
+  std::ofstream(dir / "times.txt") << "1\n2\n";  // the folder's own comes first
+  std::vector<std::string> warnings;
+  EXPECT_EQ(stamps(dir, &warnings), (std::vector<double>{0, 0, 0}));
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("lists 2 stamps for 3 frame files"), std::string::npos) << warnings[0];
+  std::ofstream(dir / "times.txt") << "1\nnot a time\n3\n";
+  EXPECT_EQ(stamps(dir, &warnings), (std::vector<double>{0, 0, 0}));
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("not used as the frames' clock"), std::string::npos) << warnings[0];
 }
 
 TEST(FrameSource, SingleKittiFile) {

@@ -46,11 +46,16 @@ std::string read_text(const fs::path& p) {
 }  // namespace
 
 LegsRunner::LegsRunner(const LegsRunOptions& o)
-    : options_(o), legs_(people::default_2d_legs()), tracker_([] {
+    : options_(o),
+      legs_(people::default_2d_legs()),
+      tracker_([] {
         people::TrackerConfig tc;
         tc.gate_max_m = 0.8;
         return tc;
-      }()) {
+      }()),
+      clock_(o.input,
+             "a folder of frames takes its clock from a KITTI-style times.txt in or beside it "
+             "(`legs --rate HZ` stamps frames without one)") {
   config_path_ = o.config.empty()
                      ? default_2d_config(o.no_classifier || o.seed_only, missing_config_)
                      : o.config;
@@ -86,6 +91,7 @@ LegsRunner::LegsRunner(const LegsRunOptions& o)
 
 FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSource& source) {
   FrameLegsPeople out;
+  clock_.check(frame);
   if (follow::is_planar_scan(frame.cloud)) {
     // A 2D scan is one ring: points in beam order. Persons are the pipeline's tracked people.
     if (!missing_config_.empty()) throw Error(missing_config_);

@@ -17,6 +17,7 @@
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/people/legs_2d_pipeline.hpp"
 #include "fieldlidar/people/tracker.hpp"
+#include "support/frame_clock.hpp"
 
 namespace fieldlidar::app {
 
@@ -70,6 +71,7 @@ class LegsRunner {
   people::PersonTracker tracker_;
   follow::FollowConfig follow_cfg_;
   std::optional<SensorModel> sensor_;
+  FrameClock clock_;
   std::size_t scans_2d_ = 0, resampled_ = 0;  ///< 2D scans processed, and those resampled
 };
 

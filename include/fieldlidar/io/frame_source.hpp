@@ -56,8 +56,10 @@ struct SourceOptions {
 class FrameSource {
  public:
   /// Opens `input`: a .bin/.pcd/.ply/.las file, a folder of them (name order), a glob such as
-  /// "scans/*.pcd", a Velodyne or Ouster .pcap, or a ROS1 .bag. Throws fieldlidar::Error naming
-  /// the input and the problem.
+  /// "scans/*.pcd", a Velodyne or Ouster .pcap, or a ROS1 .bag. A folder's frames are stamped by
+  /// the KITTI-style times.txt in it or beside it (a KITTI sequence's velodyne/, a simulator
+  /// folder's pcd/) when it lists one stamp per file. Throws fieldlidar::Error naming the input
+  /// and the problem.
   static std::unique_ptr<FrameSource> open(const std::filesystem::path& input,
                                            const SourceOptions& options = {});
   virtual ~FrameSource();

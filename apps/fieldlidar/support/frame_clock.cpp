@@ -1,0 +1,24 @@
+#include "support/frame_clock.hpp"
+
+#include <fmt/core.h>
+
+#include "fieldlidar/core/error.hpp"
+
+namespace fieldlidar::app {
+
+void FrameClock::check(const io::Frame& frame) {
+  if (last_stamp_s_ && frame.stamp_s < *last_stamp_s_)
+    throw Error(
+        fmt::format("{}: frame {} is stamped {:.6f} s, before the frame ahead of it "
+                    "({:.6f} s)",
+                    input_, frame.index, frame.stamp_s, *last_stamp_s_));
+  repeats_ = last_stamp_s_ && frame.stamp_s == *last_stamp_s_ ? repeats_ + 1 : 0;
+  if (repeats_ + 1 >= kMaxFramesWithoutTime)
+    throw Error(
+        fmt::format("{}: {} frames in a row carry the same stamp ({:.6f} s): people are "
+                    "tracked by time; {}",
+                    input_, repeats_ + 1, frame.stamp_s, hint_));
+  last_stamp_s_ = frame.stamp_s;
+}
+
+}  // namespace fieldlidar::app
