@@ -112,7 +112,7 @@ LegPipeline2DOutput LegPipeline2D::process(double stamp_s, std::span<const Eigen
   if (pose) {
     out.pose = *pose;
   } else if (config_.estimate_ego_motion) {
-    out.pose = odometry_.add(points);
+    out.pose = odometry_.add(points, last_pose_ ? stamp_s - last_pose_->first : 0.0);
     out.ego_motion_ok = odometry_.last_match().ok || odometry_.last_match().iterations == 0;
   }
   const bool moving_frame = pose.has_value() || config_.estimate_ego_motion;

@@ -252,9 +252,33 @@ ScanMatch match_scans_2d(std::span<const Eigen::Vector2d> previous,
 
 ScanOdometry2D::ScanOdometry2D(const ScanMatcher2DConfig& config) : config_(config) {}
 
-const Eigen::Isometry2d& ScanOdometry2D::add(std::span<const Eigen::Vector2d> scan) {
+bool ScanOdometry2D::implausible(const Eigen::Isometry2d& step, double dt_s) const {
+  const Eigen::Vector2d v = step.translation() / dt_s;
+  const double turn_rate = std::abs(Eigen::Rotation2Dd(step.linear()).angle()) / dt_s;
+  if (config_.max_speed_m_s > 0 && v.norm() > config_.max_speed_m_s) return true;
+  if (config_.max_turn_rate_rad_s > 0 && turn_rate > config_.max_turn_rate_rad_s) return true;
+  // The velocity changes by at most max_accel over the time since the last step believed (so
+  // a run of refusals ends once that much time allows the change).
+  return config_.max_accel_m_s2 > 0 && believed_velocity_ &&
+         (v - *believed_velocity_).norm() > config_.max_accel_m_s2 * (dt_s + refused_s_);
+}
+
+const Eigen::Isometry2d& ScanOdometry2D::add(std::span<const Eigen::Vector2d> scan, double dt_s) {
   if (started_) {
     last_ = match_scans_2d(previous_, scan, last_step_, config_);
+    if (last_.ok && dt_s > 0 && implausible(last_.transform, dt_s)) {
+      last_.ok = false;
+      last_.too_fast = true;
+      last_.transform = last_step_;
+    }
+    if (dt_s > 0) {
+      if (last_.ok) {
+        believed_velocity_ = Eigen::Vector2d(last_.transform.translation() / dt_s);
+        refused_s_ = 0;
+      } else {
+        refused_s_ += dt_s;
+      }
+    }
     if (!last_.ok) ++failed_;
     last_step_ = last_.transform;
     pose_ = pose_ * last_step_;

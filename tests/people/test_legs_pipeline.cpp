@@ -90,6 +90,38 @@ TEST(ScanOdometry2D, TracksADrivenPath) {
   EXPECT_LT((odo.pose().translation() - truth.translation()).norm(), 0.05);
 }
 
+// A match implying a motion no robot of this kind makes is refused and the prediction kept: a
+// jump of 0.45 m in 0.1 s (4.5 m/s) after driving at 1 m/s; with no time step given, believed. A
+// stop within one scan (10 m/s^2) is refused once, then believed: the bound on the change grows
+// with the time since the last match believed, so a real stop ends the refusals.
+TEST(ScanOdometry2D, MotionBoundsRefuseARunawayButNotAStop) {
+  const Room room;
+  const auto drive = [&](ScanOdometry2D& odo, double dt) {
+    for (int k = 0; k <= 5; ++k) odo.add(scan_from(pose2(0.1 * k, 0, 0), room), dt);
+  };
+  ScanOdometry2D bounded;
+  drive(bounded, 0.1);
+  EXPECT_EQ(bounded.failed_matches(), 0u);
+  bounded.add(scan_from(pose2(0.95, 0, 0), room), 0.1);
+  EXPECT_TRUE(bounded.last_match().too_fast);
+  EXPECT_FALSE(bounded.last_match().ok);
+  EXPECT_NEAR(bounded.pose().translation().x(), 0.6, 0.01);  // the prediction
+  ScanOdometry2D unknown_dt;
+  drive(unknown_dt, 0.0);
+  unknown_dt.add(scan_from(pose2(0.95, 0, 0), room));
+  EXPECT_TRUE(unknown_dt.last_match().ok);
+  EXPECT_NEAR(unknown_dt.pose().translation().x(), 0.95, 0.02);
+
+  ScanOdometry2D stopping;
+  drive(stopping, 0.1);
+  stopping.add(scan_from(pose2(0.5, 0, 0), room), 0.1);  // stopped dead
+  EXPECT_TRUE(stopping.last_match().too_fast);
+  for (int k = 0; k < 5; ++k) stopping.add(scan_from(pose2(0.5, 0, 0), room), 0.1);
+  EXPECT_TRUE(stopping.last_match().ok);
+  EXPECT_EQ(stopping.failed_matches(), 1u);
+  EXPECT_NEAR(stopping.pose().translation().x(), 0.6, 0.02);  // one predicted step too far
+}
+
 /// Two legs of a walking person at time t (world frame): the body moves along +y at 1 m/s from
 /// (1.5, -2), the legs swing +-0.2 m around it along the walking direction.
 std::vector<Circle> walker(double t) {
