@@ -201,6 +201,8 @@ FrameOutput FollowPipeline::follow(Perception perception, const Pose2& mower, do
       for (std::size_t j = 0; j < ids.size() && !retaken; ++j)
         if (ids[j] == *target_source_ && upd.track_of_detection[j] >= 0)
           retaken = tracker_.retake(std::uint32_t(upd.track_of_detection[j]));
+    if (!retaken) retaken = quick_retake(out.perception, upd, stamp_s);
+    for (const auto id : ids) source_first_seen_s_.try_emplace(id, stamp_s);
   }
   // After the tracker's re-acquisition window the lost operator takes the mower on again as at
   // the start: by walking in front of it (the mower stays stopped until then).
@@ -224,6 +226,27 @@ FrameOutput FollowPipeline::follow(Perception perception, const Pose2& mower, do
   // Step 8: the boundary is where the mower drives while following.
   recorder_.record(mower.xy(), out.control.state == FollowState::kFollowing);
   return out;
+}
+
+bool FollowPipeline::quick_retake(const Perception& perception, const people::TrackerUpdate& update,
+                                  double stamp_s) {
+  const double lost_s = tracker_.target_lost_s();
+  if (!tracker_.target_lost() || config_.quick_retake_s <= 0 || lost_s > config_.quick_retake_s)
+    return false;
+  const Eigen::Vector2d predicted = tracker_.target_predicted_m();
+  std::optional<std::size_t> best;
+  double best_d = config_.quick_retake_radius_m;
+  for (std::size_t j = 0; j < perception.people_ids.size(); ++j) {
+    const auto seen = source_first_seen_s_.find(perception.people_ids[j]);
+    if (update.track_of_detection[j] < 0 ||
+        (seen != source_first_seen_s_.end() && seen->second < stamp_s - lost_s))
+      continue;  // not followed by the tracker, or a person the detector had before the loss
+    const double d = (perception.people_m[j] - predicted).norm();
+    if (d <= best_d) best = j, best_d = d;
+  }
+  if (!best || !tracker_.retake(std::uint32_t(update.track_of_detection[*best]))) return false;
+  target_source_ = perception.people_ids[*best];
+  return true;
 }
 
 }  // namespace fieldlidar::follow

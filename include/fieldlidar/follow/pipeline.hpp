@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -60,6 +61,13 @@ struct FollowConfig {
   /// check tells them apart, and a stroller passing by takes nothing over there).
   double provisional_move_m = 0.5;
   double provisional_birth_range_m = 3.5;
+  /// With persons from a detector that tracks them (a 2D laser), a target lost for at most
+  /// `quick_retake_s` is taken again by a person the detector began tracking since the loss
+  /// within `quick_retake_radius_m` of where the target would be had it walked on: the detector
+  /// lost its person track for a scan or two (a leg jumped) and started a new one on the same
+  /// legs (s, m; 0 = off). Otherwise the re-acquisition waits for the new person to walk 1 m.
+  double quick_retake_s = 1.0;
+  double quick_retake_radius_m = 0.75;
 
   /// Leg bounds for a multi-beam sensor at mower height, set by hand from the arcs of simulated
   /// VLP-16 sweeps of walking people (range noise 3 cm: smoothing and a 3 cm path step needed).
@@ -142,6 +150,12 @@ class FollowPipeline {
   people::PersonTracker tracker_;
   /// The detector's id of the person the target was last updated by (Perception::people_ids).
   std::optional<std::int64_t> target_source_;
+  /// When each detector person id was first reported (s).
+  std::unordered_map<std::int64_t, double> source_first_seen_s_;
+  /// The lost target taken again by a detector person begun since the loss near where it would
+  /// be (FollowConfig::quick_retake_s); true when it was.
+  bool quick_retake(const Perception& perception, const people::TrackerUpdate& update,
+                    double stamp_s);
   /// The automatic choice is provisional (FollowConfig::provisional_move_m): where the target
   /// and the mower were when it was made.
   bool provisional_ = false;
