@@ -233,7 +233,15 @@ bool FollowPipeline::quick_retake(const Perception& perception, const people::Tr
   const double lost_s = tracker_.target_lost_s();
   if (!tracker_.target_lost() || config_.quick_retake_s <= 0 || lost_s > config_.quick_retake_s)
     return false;
-  const Eigen::Vector2d predicted = tracker_.target_predicted_m();
+  // Between where the target was last seen and where it would be had it walked on (it may
+  // have stopped, or its last velocity may be a broken track's).
+  const Eigen::Vector2d last = tracker_.target_last_m(), way = tracker_.target_predicted_m() - last;
+  const auto off_way = [&](const Eigen::Vector2d& p) {
+    const double s = way.squaredNorm() > 1e-12
+                         ? std::clamp((p - last).dot(way) / way.squaredNorm(), 0.0, 1.0)
+                         : 0.0;
+    return (p - (last + s * way)).norm();
+  };
   std::optional<std::size_t> best;
   double best_d = config_.quick_retake_radius_m;
   for (std::size_t j = 0; j < perception.people_ids.size(); ++j) {
@@ -241,7 +249,7 @@ bool FollowPipeline::quick_retake(const Perception& perception, const people::Tr
     if (update.track_of_detection[j] < 0 ||
         (seen != source_first_seen_s_.end() && seen->second < stamp_s - lost_s))
       continue;  // not followed by the tracker, or a person the detector had before the loss
-    const double d = (perception.people_m[j] - predicted).norm();
+    const double d = off_way(perception.people_m[j]);
     if (d <= best_d) best = j, best_d = d;
   }
   if (!best || !tracker_.retake(std::uint32_t(update.track_of_detection[*best]))) return false;

@@ -109,6 +109,8 @@ class PersonTracker {
   void clear_target() { target_id_.reset(); }
   /// Seconds since the target's last detection (0 while it is tracked or none was chosen).
   double target_lost_s() const { return target_lost() ? stamp_s_ - target_last_s_ : 0.0; }
+  /// Where the target was last detected (m, fixed frame).
+  const Eigen::Vector2d& target_last_m() const { return target_last_m_; }
   /// Where the lost target would be now had it walked on at its last velocity (m, fixed frame).
   Eigen::Vector2d target_predicted_m() const {
     return target_last_m_ + target_last_v_ * target_lost_s();
