@@ -27,6 +27,7 @@
 #include "support/legs_runner.hpp"
 #include "support/losses_picture.hpp"
 #include "support/option_checks.hpp"
+#include "support/recorded_motion.hpp"
 #include "support/tracking_truth.hpp"
 #include "support/warnings.hpp"
 
@@ -52,6 +53,7 @@ struct EvalTrackingOptions {
   std::string losses_csv;  ///< and one row per scored annotated person
   std::string losses_png;  ///< and a picture of them in the sensor frame
   bool force = false;      ///< replace an existing losses_csv or losses_png
+  std::string odom;        ///< bag odometry topic or TUM pose file placing 2D scans
   LegsRunOptions legs;
 };
 
@@ -76,6 +78,8 @@ PersonsPerFrame run_tracker(const EvalTrackingOptions& o, const TrackingTruth& t
   legs_options.trace_segments = losses != nullptr;
   LegsRunner runner(legs_options);
   const people::PersonLossConfig loss_config{.gate_m = o.gate_m, .near_m = 2 * o.gate_m};
+  std::optional<RecordedMotion> motion;
+  if (!o.odom.empty()) motion = recorded_motion(truth.frames_input, o.odom, truth.topic);
   io::SourceOptions so;
   so.topic = truth.topic;
   auto source = io::FrameSource::open(truth.frames_input, so);
@@ -84,7 +88,9 @@ PersonsPerFrame run_tracker(const EvalTrackingOptions& o, const TrackingTruth& t
     // A simulated folder's frame files carry no stamps: its times.txt is their clock.
     if (!truth.bag && frame->index < truth.stamps_s.size())
       frame->stamp_s = truth.stamps_s[frame->index];
-    const auto found = runner.process(*frame, *source);
+    const auto found = runner.process(
+        *frame, *source,
+        motion ? std::optional<Pose>(motion->sensor_at(frame->stamp_s)) : std::nullopt);
     auto& v = out.emplace_back();
     for (std::size_t i = 0; i < found.persons.size(); ++i)
       v.push_back({found.person_ids[i], found.persons[i]});
@@ -249,6 +255,10 @@ void add_eval_tracking_command(CLI::App& app) {
                   "`fieldlidar simulate` (people.csv)")
       ->required();
   cmd->add_option("--topic", o->topic, "Bag topic of the scans (default: the only scan topic)");
+  cmd->add_option("--odom", o->odom,
+                  "2D: place the scans by the recording's odometry instead of matching them: a "
+                  "nav_msgs/Odometry topic of the bag (the laser's mount from its /tf), or a TUM "
+                  "pose file of the sensor (e.g. a simulator folder's poses_tum.txt)");
   cmd->add_option("--truth", o->truth_topic, "Bag topic of the leg_tracker/Person annotations")
       ->capture_default_str();
   cmd->add_option("--detections", o->detections,

@@ -24,6 +24,7 @@
 #include "support/legs_runner.hpp"
 #include "support/option_checks.hpp"
 #include "support/progress_line.hpp"
+#include "support/recorded_motion.hpp"
 #include "support/warnings.hpp"
 
 namespace fieldlidar::app {
@@ -31,35 +32,6 @@ namespace fieldlidar::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// The recorded odometry as a trajectory (samples with a repeated stamp dropped); `child_frame`
-/// is set to the frame it tracks (the base).
-Trajectory odometry_trajectory(const fs::path& bag, const std::string& topic,
-                               std::string& child_frame) {
-  Trajectory t;
-  for (const auto& s : io::read_odometry_topic(bag, topic)) {
-    if (child_frame.empty()) child_frame = s.child_frame_id;
-    if (t.empty() || s.stamp_s > t.poses().back().stamp_s) t.push_back(s.stamp_s, s.pose);
-  }
-  if (t.size() < 2)
-    throw Error(bag.string() + ": topic '" + topic + "' holds fewer than 2 odometry poses");
-  return t;
-}
-
-/// The pose at `stamp_s`, held at the ends of the recorded span.
-Pose pose_at(const Trajectory& t, double stamp_s) {
-  if (auto p = t.at(stamp_s)) return *p;
-  return stamp_s < t.poses().front().stamp_s ? t.poses().front().pose : t.poses().back().pose;
-}
-
-/// The scan topic: --topic, else the bag's only scan topic (as the frame source chooses it).
-std::string source_topic(const FollowOptions& o) {
-  if (!o.topic.empty()) return o.topic;
-  for (const auto& t : io::bag_topics(o.replay))
-    if (t.datatype == "sensor_msgs/LaserScan" || t.datatype == "sensor_msgs/PointCloud2")
-      return t.name;
-  return {};
-}
 
 loops::LogRow log_row(const follow::ReplayFrame& f) {
   loops::LogRow r;
@@ -107,33 +79,15 @@ void run_follow_replay(const FollowOptions& o) {
     times = io::read_kitti_times(input / "times.txt");
     input = input / "pcd";
   }
-  // Beside a simulator folder or a capture, --odom can only be a TUM pose file: a missing one is
-  // named, not read as a bag topic.
-  if (!o.odom_topic.empty() && input.extension() != ".bag" && !fs::is_regular_file(o.odom_topic))
-    throw Error("--odom " + o.odom_topic + ": no such file (with a --replay that is not a bag, " +
-                "--odom is a TUM pose file)");
+  std::optional<RecordedMotion> motion;
+  if (!o.odom_topic.empty()) {
+    motion = recorded_motion(input, o.odom_topic, o.topic);
+    cfg.T_base_sensor = motion->T_base_sensor;
+  }
   io::SourceOptions so;
   so.topic = o.topic;
   auto source = io::FrameSource::open(input, so);
-  std::optional<Trajectory> motion;
-  std::string base_frame, sensor_frame, mount_from = "none (the sensor is the base)";
-  if (!o.odom_topic.empty() && fs::is_regular_file(o.odom_topic) && input.extension() != ".bag") {
-    // A TUM pose file (e.g. a simulator folder's poses_tum.txt): the sensor's poses.
-    motion = io::read_tum(o.odom_topic);
-  } else if (!o.odom_topic.empty()) {
-    motion = odometry_trajectory(o.replay, o.odom_topic, base_frame);
-    // The scan's mount on the base from the recorded transforms.
-    sensor_frame = io::first_frame_id(o.replay, source_topic(o));
-    if (const auto T = io::read_mount_transform(o.replay, base_frame, sensor_frame)) {
-      cfg.T_base_sensor = *T;
-      mount_from = "/tf: " + base_frame + " -> " + sensor_frame;
-    } else {
-      warn(
-          fmt::format("no transform {} -> {} in the bag: the scans are taken as seen from the "
-                      "base's origin and heading",
-                      base_frame, sensor_frame));
-    }
-  }
+  const std::string mount_from = motion ? motion->mount_from : "none (the sensor is the base)";
   LegsRunOptions lo;
   lo.input = o.replay;
   lo.config = o.legs_config;
@@ -159,7 +113,7 @@ void run_follow_replay(const FollowOptions& o) {
     clock.check(*frame);
     if (max_time_end && frame->stamp_s > *max_time_end) break;
     std::optional<Pose> pose;
-    if (motion) pose = pose_at(*motion, frame->stamp_s);
+    if (motion) pose = motion->base_at(frame->stamp_s);
     rows.push_back(log_row(replay->step(frame->cloud, frame->stamp_s, pose)));
     progress.show("frame {} ({:.0f} %)   ", frame->index, 100 * source->progress());
   }

@@ -20,6 +20,7 @@
 #include "fieldlidar/people/leg_training.hpp"
 #include "support/legs_runner.hpp"
 #include "support/option_checks.hpp"
+#include "support/recorded_motion.hpp"
 #include "support/sensor_choice.hpp"
 #include "support/warnings.hpp"
 
@@ -45,6 +46,7 @@ struct LegsOptions {
   bool no_classifier = false;
   bool force = false;
   double rate_hz = 0;  ///< > 0: frames stamped at this rate from the first one's stamp
+  std::string odom;    ///< bag odometry topic or TUM pose file placing 2D scans
 };
 
 void run_legs(const LegsOptions& o) {
@@ -75,6 +77,8 @@ void run_legs(const LegsOptions& o) {
       for (const auto& p : s.poses) v.emplace_back(p.translation().x(), p.translation().y());
     }
 
+  std::optional<RecordedMotion> motion;
+  if (!o.odom.empty()) motion = recorded_motion(o.input, o.odom, o.topic);
   io::SourceOptions so;
   so.topic = o.topic;
   auto source = io::FrameSource::open(o.input, so);
@@ -91,7 +95,9 @@ void run_legs(const LegsOptions& o) {
       if (!first_stamp_s) first_stamp_s = frame->stamp_s;
       frame->stamp_s = frame->cloud.stamp_s = *first_stamp_s + double(frame->index) / o.rate_hz;
     }
-    const auto found = runner.process(*frame, *source);
+    const auto found = runner.process(
+        *frame, *source,
+        motion ? std::optional<Pose>(motion->sensor_at(frame->stamp_s)) : std::nullopt);
     const auto& leg_pos = found.legs;
     const auto& person_pos = found.persons;
     const auto& person_id = found.person_ids;
@@ -152,6 +158,10 @@ void add_legs_command(CLI::App& app) {
       "legs", "Detect legs and people (and track people) in 2D scans or 3D sweeps");
   cmd->add_option("input", o->input, "Bag, capture or cloud files")->required();
   cmd->add_option("--topic", o->topic, "Bag topic of the scans");
+  cmd->add_option("--odom", o->odom,
+                  "2D: place the scans by the recording's odometry instead of matching them: a "
+                  "nav_msgs/Odometry topic of the bag (the laser's mount from its /tf), or a TUM "
+                  "pose file of the sensor (e.g. a simulator folder's poses_tum.txt)");
   cmd->add_option("--rate", o->rate_hz,
                   "Stamp the frames at this rate (Hz) from the first one's stamp, for frames "
                   "without a clock (a folder of frames with no times.txt in or beside it)")

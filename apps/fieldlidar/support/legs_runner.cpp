@@ -89,14 +89,21 @@ LegsRunner::LegsRunner(const LegsRunOptions& o)
   pipeline_ = std::make_unique<people::LegPipeline2D>(pipeline_config);
 }
 
-FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSource& source) {
+FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSource& source,
+                                    const std::optional<Pose>& T_fixed_sensor) {
   FrameLegsPeople out;
   clock_.check(frame);
   if (follow::is_planar_scan(frame.cloud)) {
     // A 2D scan is one ring: points in beam order. Persons are the pipeline's tracked people.
     if (!missing_config_.empty()) throw Error(missing_config_);
     ++scans_2d_;
-    auto det = pipeline_->process(frame.stamp_s, people::scan_points_2d(frame.cloud));
+    std::optional<Eigen::Isometry2d> pose;
+    if (T_fixed_sensor) {
+      pose = Eigen::Isometry2d::Identity();
+      pose->translation() = T_fixed_sensor->translation().head<2>();
+      pose->linear() = Eigen::Rotation2Dd(yaw_of(*T_fixed_sensor)).toRotationMatrix();
+    }
+    auto det = pipeline_->process(frame.stamp_s, people::scan_points_2d(frame.cloud), pose);
     resampled_ += det.resampled;
     out.segments = std::move(det.segments);
     for (const auto& l : det.legs) out.legs.push_back(l.position_m);

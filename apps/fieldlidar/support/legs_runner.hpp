@@ -51,8 +51,11 @@ class LegsRunner {
   /// Loads the detector config (and its classifier); throws fieldlidar::Error when a file is
   /// missing or malformed.
   explicit LegsRunner(const LegsRunOptions& options);
-  /// One frame of `source` (which gives the sensor model of 3D frames).
-  FrameLegsPeople process(const io::Frame& frame, const io::FrameSource& source);
+  /// One frame of `source` (which gives the sensor model of 3D frames). `T_fixed_sensor`, the
+  /// sensor's pose from recorded odometry, places 2D scans instead of the pipeline's own scan
+  /// matching (3D sweeps are tracked in the sensor frame either way).
+  FrameLegsPeople process(const io::Frame& frame, const io::FrameSource& source,
+                          const std::optional<Pose>& T_fixed_sensor = std::nullopt);
   /// True once a 2D scan was processed.
   bool scans_2d() const { return scans_2d_ > 0; }
   /// The 2D leg pipeline's config as loaded (detector, classifier); throws fieldlidar::Error
