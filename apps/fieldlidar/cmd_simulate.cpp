@@ -304,26 +304,38 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--truth-resolution", o->truth_resolution_m, "Terrain truth cell size (m)")
       ->capture_default_str()
       ->check(real_in(0.05, 10));
-  cmd->add_flag("--crossing", o->crossing, "lawn: a second person crosses ahead of the operator");
-  cmd->add_flag("--operator-stops", o->stops, "lawn: the operator stands still for a while");
-  cmd->add_flag("--too-fast", o->too_fast,
-                "lawn: the operator walks faster than the mower can follow");
-  cmd->add_flag("--behind-shed", o->behind_shed,
-                "lawn: the operator's path passes behind the shed");
-  cmd->add_flag("--operator-waits", o->waits,
-                "lawn: the operator stands still for 5 s before walking off");
-  cmd->add_option("--rough", o->rough,
-                  "lawn: amplitude of short bumps over the ground (tussocks and ruts, 2-4 m "
-                  "wavelengths; m, 0: a mown lawn; 0.06 tilts the mower by up to ~8 deg)")
-      ->capture_default_str()
-      ->check(real_in(0, 0.3));
-  cmd->add_option("--extra-walkers", o->extra_walkers, "lawn: people strolling at random")
-      ->capture_default_str()
-      ->check(whole_in(0, 50));
-  cmd->add_option("--operator-speed", o->operator_speed, "lawn: operator walking speed (m/s)")
-      ->capture_default_str()
-      ->check(real_in(0.1, 3));
-  cmd->callback([o] { run_simulate(*o); });
+  std::vector<CLI::Option*> lawn;  // the lawn scenario's options, refused with other scenes
+  lawn.push_back(cmd->add_flag("--crossing", o->crossing,
+                               "lawn: a second person crosses ahead of the operator"));
+  lawn.push_back(
+      cmd->add_flag("--operator-stops", o->stops, "lawn: the operator stands still for a while"));
+  lawn.push_back(cmd->add_flag("--too-fast", o->too_fast,
+                               "lawn: the operator walks faster than the mower can follow"));
+  lawn.push_back(cmd->add_flag("--behind-shed", o->behind_shed,
+                               "lawn: the operator's path passes behind the shed"));
+  lawn.push_back(cmd->add_flag("--operator-waits", o->waits,
+                               "lawn: the operator stands still for 5 s before walking off"));
+  lawn.push_back(
+      cmd->add_option("--rough", o->rough,
+                      "lawn: amplitude of short bumps over the ground (tussocks and ruts, 2-4 m "
+                      "wavelengths; m, 0: a mown lawn; 0.06 tilts the mower by up to ~8 deg)")
+          ->capture_default_str()
+          ->check(real_in(0, 0.3)));
+  lawn.push_back(
+      cmd->add_option("--extra-walkers", o->extra_walkers, "lawn: people strolling at random")
+          ->capture_default_str()
+          ->check(whole_in(0, 50)));
+  lawn.push_back(
+      cmd->add_option("--operator-speed", o->operator_speed, "lawn: operator walking speed (m/s)")
+          ->capture_default_str()
+          ->check(real_in(0.1, 3)));
+  cmd->callback([o, lawn] {
+    for (const auto* opt : lawn)
+      if (opt->count() > 0 && o->scene != "lawn")
+        throw Error(opt->get_name() + ": a lawn scenario setting; --scene " + o->scene +
+                    " has no operator or lawn");
+    run_simulate(*o);
+  });
 }
 
 }  // namespace fieldlidar::app

@@ -74,6 +74,20 @@ TEST(CliIgnoredOptions, LegsTrainClassifierNeedsNegativesAndKnownFeatures) {
   EXPECT_FALSE(fs::exists(dir / "legs.yaml"));
 }
 
+TEST(CliIgnoredOptions, SimulateRefusesLawnSettingsForOtherScenes) {
+  const auto dir = test::temp_dir("cli_simulate_options");
+  for (const std::string option : {"--rough 0.06", "--crossing", "--extra-walkers 2"}) {
+    const auto r = test::run_cli("simulate --scene terrain --frames 1 " + option + " --out " +
+                                 test::quoted(dir / "sim"));
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("fieldlidar: error: " + option.substr(0, option.find(' ')) +
+                            ": a lawn scenario setting; --scene terrain has no operator or lawn"),
+              std::string::npos)
+        << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "sim"));
+}
+
 TEST(CliIgnoredOptions, NavigateAndPlanArgumentsAreCheckedUpFront) {
   const auto dir = test::temp_dir("cli_navigate_options");
   std::ofstream(dir / "pairs.csv") << "a,-20,0,0,20,0,0\nb,-20,5,0,20,5,0\na,-20,-5,0,20,-5,0\n";
