@@ -283,17 +283,24 @@ void add_follow_command(CLI::App& app) {
                   "The mower's pose: odometry (LiDAR + IMU + wheels; with --sensor laser2d wheels "
                   "and IMU) or truth (the simulator's)")
       ->capture_default_str();
-  cmd->add_option("--replay", o->replay,
-                  "A ROS1 bag (or a simulate folder) to replay instead of simulating: perception, "
-                  "tracking, target choice "
-                  "and controller on the recorded scans, the robot's motion from the recording "
-                  "(commands logged, not applied); writes follow_log.csv, summary.json and "
-                  "follow.png");
+  auto* replay = cmd->add_option(
+      "--replay", o->replay,
+      "A ROS1 bag (or a simulate folder) to replay instead of simulating: perception, "
+      "tracking, target choice "
+      "and controller on the recorded scans, the robot's motion from the recording "
+      "(commands logged, not applied); writes follow_log.csv, summary.json and "
+      "follow.png");
   cmd->add_option("--topic", o->topic, "With --replay: the scan topic (default: the only one)");
   cmd->add_option("--odom", o->odom_topic,
                   "With --replay: nav_msgs/Odometry topic of the bag giving the robot's motion, or "
                   "a TUM pose file of the sensor (e.g. a simulate folder's poses_tum.txt) "
                   "(default: the robot stands still)");
+  cmd->add_option("--rate", o->rate_hz,
+                  "With --replay: stamp the frames at this rate (Hz) from the first one's stamp, "
+                  "for frames without a clock (a folder of frames with no times.txt in or beside "
+                  "it)")
+      ->check(real_above(0, 1e4))
+      ->needs(replay);
   cmd->add_option("--legs-config", o->legs_config,
                   "2D scans (--replay of a 2D laser, or --sensor laser2d): leg detector YAML and "
                   "its optional `tracker:` map (default: the shipped legs_2d.yaml)");

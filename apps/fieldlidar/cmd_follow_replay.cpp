@@ -98,7 +98,10 @@ void run_follow_replay(const FollowOptions& o) {
   std::optional<double> max_time_end;
   ProgressLine progress;
   FrameClock clock(
-      o.replay, "a folder of frames takes its clock from a KITTI-style times.txt in or beside it");
+      o.replay,
+      "a folder of frames takes its clock from a KITTI-style times.txt in or beside it "
+      "(`--rate HZ` stamps frames without one)");
+  std::optional<double> first_stamp_s;
   while (auto frame = source->next()) {
     if (!replay) {
       if (follow::is_planar_scan(frame->cloud)) cfg.legs_2d = legs.config_2d();
@@ -110,6 +113,10 @@ void run_follow_replay(const FollowOptions& o) {
       if (o.max_time_s > 0) max_time_end = frame->stamp_s + o.max_time_s;
     }
     if (frame->index < times.size()) frame->stamp_s = frame->cloud.stamp_s = times[frame->index];
+    if (o.rate_hz > 0) {  // frames without a clock of their own
+      if (!first_stamp_s) first_stamp_s = frame->stamp_s;
+      frame->stamp_s = frame->cloud.stamp_s = *first_stamp_s + double(frame->index) / o.rate_hz;
+    }
     clock.check(*frame);
     if (max_time_end && frame->stamp_s > *max_time_end) break;
     std::optional<Pose> pose;

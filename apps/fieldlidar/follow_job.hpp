@@ -24,6 +24,7 @@ struct FollowOptions {
   std::string topic;        ///< its scan topic ("" = the only one)
   std::string odom_topic;   ///< nav_msgs/Odometry topic: the robot's motion ("" = standing still)
   std::string legs_config;  ///< 2D leg detector YAML ("" = the shipped legs_2d.yaml)
+  double rate_hz = 0;       ///< > 0: frames stamped at this rate from the first one's stamp
 };
 
 /// Runs the follow pipeline on the recording `o.replay` and writes follow_log.csv, summary.json

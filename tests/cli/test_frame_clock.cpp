@@ -1,7 +1,7 @@
 // End to end: the clock of a folder of frames for the commands that track people over time
 // (legs, follow --replay): a simulator folder's times.txt stamps its pcd/, frames without a
 // clock are refused (before, every track ever seen lived on and the run slowed without bound),
-// `legs --rate` gives them one. And the rough lawn of `simulate --rough`, whose scripted mower
+// `--rate` gives them one. And the rough lawn of `simulate --rough`, whose scripted mower
 // tilts on the bumps.
 
 #include <algorithm>
@@ -58,6 +58,10 @@ TEST(CliFrameClock, FramesWithoutAClockAreRefusedAndRateGivesThemOne) {
                     test::quoted(dir / "replay"));
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("times.txt in or beside it"), std::string::npos) << r.output;
+  r = test::run_cli("follow --replay " + test::quoted(dir / "bare" / "pcd") + " --rate 10 --out " +
+                    test::quoted(dir / "replay"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("40 frames (3.9 s)"), std::string::npos) << r.output;
   r = test::run_cli("legs " + test::quoted(dir / "bare" / "pcd") + " --rate 10 --out " +
                     test::quoted(dir / "bare.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
