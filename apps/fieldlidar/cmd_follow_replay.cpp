@@ -113,10 +113,7 @@ void run_follow_replay(const FollowOptions& o) {
       if (o.max_time_s > 0) max_time_end = frame->stamp_s + o.max_time_s;
     }
     if (frame->index < times.size()) frame->stamp_s = frame->cloud.stamp_s = times[frame->index];
-    if (o.rate_hz > 0) {  // frames without a clock of their own
-      if (!first_stamp_s) first_stamp_s = frame->stamp_s;
-      frame->stamp_s = frame->cloud.stamp_s = *first_stamp_s + double(frame->index) / o.rate_hz;
-    }
+    stamp_at_rate(*frame, o.rate_hz, first_stamp_s);
     clock.check(*frame);
     if (max_time_end && frame->stamp_s > *max_time_end) break;
     std::optional<Pose> pose;

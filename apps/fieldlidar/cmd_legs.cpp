@@ -18,6 +18,7 @@
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/io/rosbag_reader.hpp"
 #include "fieldlidar/people/leg_training.hpp"
+#include "support/frame_clock.hpp"
 #include "support/legs_runner.hpp"
 #include "support/option_checks.hpp"
 #include "support/recorded_motion.hpp"
@@ -91,10 +92,7 @@ void run_legs(const LegsOptions& o) {
   while (auto frame = source->next()) {
     ++frames;
     points += frame->cloud.size();
-    if (o.rate_hz > 0) {  // frames without a clock of their own (e.g. KITTI tracking sweeps)
-      if (!first_stamp_s) first_stamp_s = frame->stamp_s;
-      frame->stamp_s = frame->cloud.stamp_s = *first_stamp_s + double(frame->index) / o.rate_hz;
-    }
+    stamp_at_rate(*frame, o.rate_hz, first_stamp_s);
     const auto found = runner.process(
         *frame, *source,
         motion ? std::optional<Pose>(motion->sensor_at(frame->stamp_s)) : std::nullopt);

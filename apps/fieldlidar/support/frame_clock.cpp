@@ -6,6 +6,12 @@
 
 namespace fieldlidar::app {
 
+void stamp_at_rate(io::Frame& frame, double rate_hz, std::optional<double>& first_stamp_s) {
+  if (rate_hz <= 0) return;
+  if (!first_stamp_s) first_stamp_s = frame.stamp_s;
+  frame.stamp_s = frame.cloud.stamp_s = *first_stamp_s + double(frame.index) / rate_hz;
+}
+
 void FrameClock::check(const io::Frame& frame) {
   if (last_stamp_s_ && frame.stamp_s < *last_stamp_s_)
     throw Error(

@@ -10,6 +10,10 @@
 
 namespace fieldlidar::app {
 
+/// `--rate HZ`: stamps `frame` `index / rate_hz` after the first frame's own stamp (kept in
+/// `first_stamp_s`), for frames without a clock; nothing when rate_hz <= 0.
+void stamp_at_rate(io::Frame& frame, double rate_hz, std::optional<double>& first_stamp_s);
+
 class FrameClock {
  public:
   /// `input` names the input in errors; `hint` tells how to give the frames a clock.
