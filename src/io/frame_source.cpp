@@ -83,8 +83,7 @@ std::vector<double> sequence_times(const std::filesystem::path& dir, std::size_t
     if (times.size() == frames) return times;
     warnings.push_back(p.string() + " lists " + std::to_string(times.size()) + " stamps for " +
                        std::to_string(frames) +
-                       " frame files: not used (frames carry their "
-                       "files' own stamps)");
+                       " frame files: not used (the frames carry their files' own stamps)");
     return {};
   }
   return {};

@@ -62,11 +62,11 @@ struct FollowConfig {
   double provisional_move_m = 0.5;
   double provisional_birth_range_m = 3.5;
   /// With persons from a detector that tracks them (a 2D laser), a target lost for at most
-  /// `quick_retake_s` is taken again by a person the detector began tracking since the loss
+  /// `quick_retake_s` is taken again by a person the detector began tracking since the loss,
   /// within `quick_retake_radius_m` of the way from where the target was last seen to where it
-  /// would be had it walked on: the detector
-  /// lost its person track for a scan or two (a leg jumped) and started a new one on the same
-  /// legs (s, m; 0 = off). Otherwise the re-acquisition waits for the new person to walk 1 m.
+  /// would be had it walked on: the detector lost its person track for a scan or two (a leg
+  /// jumped) and started a new one on the same legs (s, m; 0 = off). Otherwise the
+  /// re-acquisition waits for the new person to walk 1 m.
   double quick_retake_s = 1.0;
   double quick_retake_radius_m = 0.75;
 
