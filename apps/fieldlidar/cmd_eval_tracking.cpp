@@ -106,6 +106,7 @@ PersonsPerFrame run_tracker(const EvalTrackingOptions& o, const TrackingTruth& t
             {f, t, people::person_loss(t.position_m, found.segments, reported, loss_config)});
   }
   warn_source_losses(*source);
+  if (motion) motion->warn_outside(o.odom);
   if (out.size() != truth.persons.size())
     throw Error(o.input + ": " + std::to_string(out.size()) + " frames read but " +
                 std::to_string(truth.persons.size()) + " frames of truth");

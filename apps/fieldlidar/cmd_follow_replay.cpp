@@ -124,6 +124,7 @@ void run_follow_replay(const FollowOptions& o) {
   progress.end();
   if (!replay) throw Error(o.replay + ": no frame on the scan topic");
   for (const auto& w : source->warnings()) warn(w);
+  if (motion) motion->warn_outside(o.odom_topic);
 
   const auto& s = replay->summary();
   auto state_frames = [&](follow::FollowState st) { return s.frames_by_state[std::size_t(st)]; };

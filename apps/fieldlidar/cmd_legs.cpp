@@ -125,6 +125,7 @@ void run_legs(const LegsOptions& o) {
     }
   }
   warn_source_losses(*source);
+  if (motion) motion->warn_outside(o.odom);
   if (points == 0)
     throw Error(o.input + (frames ? ": holds no points" : ": holds no scans") +
                 ": no legs to look for");

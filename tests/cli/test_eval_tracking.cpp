@@ -249,6 +249,19 @@ TEST(CliEvalTracking, RoughLawnFollowedWithA2DLaserKeepsTheOperatorTracked) {
                          test::quoted(dir / "poses_tum.txt") + " --out " +
                          test::quoted(dir / "legs.csv"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
+  // Poses covering the first 9.9 s only: the scans past 10.4 s are said to be placed at its end.
+  {
+    std::ifstream in(dir / "poses_tum.txt");
+    std::ofstream out(dir / "short_tum.txt");
+    std::string line;
+    for (int k = 0; k < 101 && std::getline(in, line); ++k) out << line << "\n";
+  }
+  r = test::run_cli("legs " + test::quoted(dir / "pcd") + " --odom " +
+                    test::quoted(dir / "short_tum.txt") + " --out " +
+                    test::quoted(dir / "legs3.csv"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("frames lie outside the time span of --odom"), std::string::npos)
+      << r.output;
   r = test::run_cli("legs " + test::quoted(dir / "pcd") + " --odom " +
                     test::quoted(dir / "nope.txt") + " --out " + test::quoted(dir / "legs2.csv"));
   EXPECT_NE(r.output.find("--odom " + (dir / "nope.txt").string() + ": no such file"),

@@ -38,10 +38,21 @@ std::string scan_topic_of(const fs::path& bag, const std::string& topic) {
 
 }  // namespace
 
-Pose RecordedMotion::base_at(double stamp_s) const {
+Pose RecordedMotion::base_at(double stamp_s) {
   if (auto p = poses.at(stamp_s)) return *p;
-  return stamp_s < poses.poses().front().stamp_s ? poses.poses().front().pose
-                                                 : poses.poses().back().pose;
+  const auto& first = poses.poses().front();
+  const auto& last = poses.poses().back();
+  if (stamp_s < first.stamp_s - kSpanSlackS || stamp_s > last.stamp_s + kSpanSlackS)
+    ++frames_outside;
+  return stamp_s < first.stamp_s ? first.pose : last.pose;
+}
+
+void RecordedMotion::warn_outside(const std::string& odom) const {
+  if (frames_outside == 0) return;
+  warn(fmt::format(
+      "{} frames lie outside the time span of --odom {} ({:.3f} .. {:.3f} s): they "
+      "were placed at its nearest end, as if the robot stood there",
+      frames_outside, odom, poses.poses().front().stamp_s, poses.poses().back().stamp_s));
 }
 
 RecordedMotion recorded_motion(const fs::path& input, const std::string& odom,
