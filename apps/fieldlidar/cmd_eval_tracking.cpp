@@ -85,9 +85,6 @@ PersonsPerFrame run_tracker(const EvalTrackingOptions& o, const TrackingTruth& t
   auto source = io::FrameSource::open(truth.frames_input, so);
   PersonsPerFrame out;
   while (auto frame = source->next()) {
-    // A simulated folder's frame files carry no stamps: its times.txt is their clock.
-    if (!truth.bag && frame->index < truth.stamps_s.size())
-      frame->stamp_s = truth.stamps_s[frame->index];
     const auto found = runner.process(
         *frame, *source,
         motion ? std::optional<Pose>(motion->sensor_at(frame->stamp_s)) : std::nullopt);

@@ -15,8 +15,6 @@
 #include "fieldlidar/follow/replay.hpp"
 #include "fieldlidar/io/file_util.hpp"
 #include "fieldlidar/io/frame_source.hpp"
-#include "fieldlidar/io/rosbag_reader.hpp"
-#include "fieldlidar/io/trajectory_io.hpp"
 #include "fieldlidar/loops/closed_loop.hpp"
 #include "follow_job.hpp"
 #include "support/follow_replay_picture.hpp"
@@ -71,14 +69,10 @@ void run_follow_replay(const FollowOptions& o) {
   if (fs::is_directory(dir))
     for (const auto& p : {log, summary, png}) io::check_writable(p, o.force);
 
-  // A simulator folder: its PCD sweeps, stamped by its times.txt.
+  // A simulator folder: its PCD sweeps (stamped by the times.txt beside them, as any folder).
   fs::path input(o.replay);
-  std::vector<double> times;
-  if (fs::is_directory(input) && fs::exists(input / "times.txt") &&
-      fs::is_directory(input / "pcd")) {
-    times = io::read_kitti_times(input / "times.txt");
+  if (fs::is_directory(input) && fs::exists(input / "times.txt") && fs::is_directory(input / "pcd"))
     input = input / "pcd";
-  }
   std::optional<RecordedMotion> motion;
   if (!o.odom_topic.empty()) {
     motion = recorded_motion(input, o.odom_topic, o.topic);
@@ -112,7 +106,6 @@ void run_follow_replay(const FollowOptions& o) {
       topic = frame->topic;
       if (o.max_time_s > 0) max_time_end = frame->stamp_s + o.max_time_s;
     }
-    if (frame->index < times.size()) frame->stamp_s = frame->cloud.stamp_s = times[frame->index];
     stamp_at_rate(*frame, o.rate_hz, first_stamp_s);
     clock.check(*frame);
     if (max_time_end && frame->stamp_s > *max_time_end) break;
