@@ -9,21 +9,6 @@
 
 namespace fieldlidar::follow {
 
-namespace {
-
-Pose2 planar(const Pose& T) {
-  return {T.translation().x(), T.translation().y(), yaw_of(T)};
-}
-
-Eigen::Isometry2d isometry_2d(const Pose2& p) {
-  Eigen::Isometry2d T = Eigen::Isometry2d::Identity();
-  T.translation() = p.xy();
-  T.linear() = Eigen::Rotation2Dd(p.yaw_rad).toRotationMatrix();
-  return T;
-}
-
-}  // namespace
-
 Perception perceive_2d(people::LegPipeline2D& legs, double stamp_s, const PointCloud& scan,
                        const Pose2& sensor_pose, bool pose_known) {
   const Eigen::Isometry2d T_2d = isometry_2d(sensor_pose);

@@ -22,10 +22,6 @@ follow::Pose2 MowerSegment::at(double t_s) const {
   return follow::predict_pose(start, v_m_s, dv_m_s, track_width_m, t_s - t0_s);
 }
 
-follow::Pose2 planar(const Pose& T) {
-  return {T.translation().x(), T.translation().y(), yaw_of(T)};
-}
-
 SimulatedStreams::SimulatedStreams(const MotionStreamsConfig& config) : config_(config) {
   std::mt19937_64 rng(config.imu.seed);
   std::normal_distribution<double> n01(0.0, 1.0);

@@ -8,6 +8,7 @@
 #include <fmt/core.h>
 
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/core/pose2.hpp"
 #include "fieldlidar/follow/replay.hpp"
 #include "fieldlidar/people/joint_tracker_yaml.hpp"
 #include "fieldlidar/people/leg_training.hpp"
@@ -98,11 +99,7 @@ FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSourc
     if (!missing_config_.empty()) throw Error(missing_config_);
     ++scans_2d_;
     std::optional<Eigen::Isometry2d> pose;
-    if (T_fixed_sensor) {
-      pose = Eigen::Isometry2d::Identity();
-      pose->translation() = T_fixed_sensor->translation().head<2>();
-      pose->linear() = Eigen::Rotation2Dd(yaw_of(*T_fixed_sensor)).toRotationMatrix();
-    }
+    if (T_fixed_sensor) pose = isometry_2d(planar(*T_fixed_sensor));
     auto det = pipeline_->process(frame.stamp_s, people::scan_points_2d(frame.cloud), pose);
     resampled_ += det.resampled;
     out.segments = std::move(det.segments);

@@ -116,7 +116,4 @@ class DeadReckoningPoseSource {
   bool levelled_ = false;  ///< the accelerometer has levelled the attitude once
 };
 
-/// The planar pose (x, y, yaw) of a 3D pose.
-follow::Pose2 planar(const Pose& T);
-
 }  // namespace fieldlidar::loops
