@@ -69,10 +69,7 @@ void run_follow_replay(const FollowOptions& o) {
   if (fs::is_directory(dir))
     for (const auto& p : {log, summary, png}) io::check_writable(p, o.force);
 
-  // A simulator folder: its PCD sweeps (stamped by the times.txt beside them, as any folder).
-  fs::path input(o.replay);
-  if (fs::is_directory(input) && fs::exists(input / "times.txt") && fs::is_directory(input / "pcd"))
-    input = input / "pcd";
+  const fs::path input(o.replay);  // a bag, or frames (a simulator folder: its pcd/ sweeps)
   std::optional<RecordedMotion> motion;
   if (!o.odom_topic.empty()) {
     motion = recorded_motion(input, o.odom_topic, o.topic);

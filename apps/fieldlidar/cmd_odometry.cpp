@@ -132,16 +132,15 @@ void run_odometry(const OdometryOptions& o) {
   const OutputFolder folder(out);  // gone again if the input is refused before any output
   for (const auto& n : names) io::check_writable(out / n, o.force);
 
-  // A simulator folder: its PCD frames (ring and time), times, IMU and wheel streams.
-  fs::path input(o.input), imu_path(o.imu), odom_path(o.odom);
-  std::vector<double> times;
+  // A simulator folder: its IMU and wheel streams beside its frames (FrameSource::open reads
+  // its pcd/, stamped by its times.txt).
+  const fs::path input(o.input);
+  fs::path imu_path(o.imu), odom_path(o.odom);
   odometry::OdometryConfig cfg;
   if (fs::is_directory(input) && fs::exists(input / "imu.csv")) {
     if (imu_path.empty()) imu_path = input / "imu.csv";
     if (odom_path.empty() && fs::exists(input / "odom.csv")) odom_path = input / "odom.csv";
-    if (fs::exists(input / "times.txt")) times = io::read_kitti_times(input / "times.txt");
     cfg.deskew.T_base_lidar = scene_base_lidar(input);
-    if (fs::is_directory(input / "pcd")) input = input / "pcd";
   }
   if (o.lidar_only) imu_path.clear(), odom_path.clear();
   const bool imu_topic = bag_topic(imu_path.string(), input);
@@ -177,7 +176,6 @@ void run_odometry(const OdometryOptions& o) {
   ProgressLine progress;
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
-    if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
     points += cloud.size();
     if (!odo) {
       const SensorModel sensor =
@@ -197,7 +195,7 @@ void run_odometry(const OdometryOptions& o) {
       }
     }
     // Files without stamps: one sweep period apart.
-    if (times.empty() && cloud.stamp_s <= 0 && frame->index > 0)
+    if (cloud.stamp_s <= 0 && frame->index > 0)
       cloud.stamp_s = frame->index * cfg.expected_period_s;
     const auto r = odo->register_frame(cloud);
     if (!r.warnings.empty()) progress.interrupt();  // over the progress line
@@ -223,6 +221,7 @@ void run_odometry(const OdometryOptions& o) {
   }
   stretch.flush();
   progress.end();
+  warn_source_losses(*source);
   if (!odo) throw Error(o.input + ": no frame");
   if (points == 0) throw Error(o.input + ": holds no points: nothing to register");
   // Localisation that never matched the map: the poses are the prior alone (the initial pose

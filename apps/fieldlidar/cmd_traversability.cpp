@@ -97,12 +97,6 @@ struct SequenceResult {
 /// one map, placed by the poses file or else by the lidar odometry (first scan's frame).
 SequenceResult map_sequence(const TraversabilityOptions& o,
                             const terrain::TraversabilityConfig& cfg) {
-  fs::path input(o.input);
-  std::vector<double> times;
-  if (fs::is_directory(input) && fs::is_directory(input / "pcd")) {
-    if (fs::exists(input / "times.txt")) times = io::read_kitti_times(input / "times.txt");
-    input = input / "pcd";
-  }
   SequenceResult r;
   bool by_index = true;
   Trajectory poses;
@@ -111,7 +105,7 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
   terrain::FusionConfig fusion;
   fusion.layers = cfg;
   terrain::TerrainMap map(fusion);
-  auto source = io::FrameSource::open(input);
+  auto source = io::FrameSource::open(o.input);
   std::unique_ptr<odometry::LidarOdometry> odo;
   std::optional<SensorModel> sensor;
   double last_stamp = -1e300;
@@ -139,12 +133,11 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
     if (const auto why = segmentation::implausible_span(cloud))
       throw Error(fmt::format("{}: frame {}: {}", o.input, frame->index, *why));
     drop_nearer_than(cloud, o.min_range_m);
-    if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
     if (!sensor) {
       sensor = source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
       r.sensor = sensor->name;
     }
-    if (times.empty() && cloud.stamp_s <= 0 && frame->index > 0)
+    if (cloud.stamp_s <= 0 && frame->index > 0)  // files without a clock: a sweep apart
       cloud.stamp_s = frame->index * sensor->sweep_period_s();
     std::optional<Pose> T;
     if (!o.poses.empty()) {
@@ -181,6 +174,7 @@ SequenceResult map_sequence(const TraversabilityOptions& o,
   }
   if (pending) fuse(*pending, std::nullopt, 0.0);  // the last sweep, its motion unknown
   progress.end();
+  warn_source_losses(*source);
   // More poses than frames: the poses are of another sequence (or another cut of this one).
   if (!o.poses.empty() && by_index && poses.size() != frames_read)
     throw Error(

@@ -65,17 +65,13 @@ void run_sequence(const TrunksOptions& o, const Truth& truth) {
   fs::create_directories(out);
   for (const char* n : {"poses.txt", "poses_tum.txt", "trees.csv", "trees.geojson", "trees.png"})
     io::check_writable(out / n, o.force, {fs::path(o.input)});
-  fs::path input(o.input);
-  std::vector<double> times;
+  const fs::path input(o.input);
   Pose T_world_first = Pose::Identity();
   bool have_first = false;
-  if (fs::is_directory(input) && fs::is_directory(input / "pcd")) {  // a simulator folder
-    if (fs::exists(input / "times.txt")) times = io::read_kitti_times(input / "times.txt");
-    if (fs::exists(input / "poses.txt")) {
-      const auto ref = io::read_kitti_poses(input / "poses.txt");
-      if (!ref.empty()) T_world_first = ref[0].pose, have_first = true;
-    }
-    input = input / "pcd";
+  if (fs::is_directory(input) && fs::is_directory(input / "pcd") &&
+      fs::exists(input / "poses.txt")) {  // a simulator folder
+    const auto ref = io::read_kitti_poses(input / "poses.txt");
+    if (!ref.empty()) T_world_first = ref[0].pose, have_first = true;
   }
   auto source = io::FrameSource::open(input);
   std::unique_ptr<forest::TrunkTracker> tracker;
@@ -96,7 +92,6 @@ void run_sequence(const TrunksOptions& o, const Truth& truth) {
           fmt::format("{}: frame {} has no ring field; tracking needs the scan lines of a "
                       "spinning sensor",
                       o.input, frame->index));
-    if (frame->index < times.size()) cloud.stamp_s = times[frame->index];
     if (!sensor) {
       sensor = source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
       forest::TrackerConfig cfg;
@@ -124,6 +119,7 @@ void run_sequence(const TrunksOptions& o, const Truth& truth) {
                   100 * source->progress(), r.trees, r.matched);
   }
   progress.end();
+  warn_source_losses(*source);
   if (!tracker) throw Error(o.input + ": no frame");
   if (points == 0) throw Error(o.input + ": holds no points: no trunks to look for");
   const auto trees = tracker->map_trees();

@@ -89,6 +89,15 @@ std::vector<double> sequence_times(const std::filesystem::path& dir, std::size_t
   return {};
 }
 
+/// The cloud files directly in `dir`, in name order.
+std::vector<std::filesystem::path> cloud_files_in(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.is_regular_file() && cloud_format_of(e.path())) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
 }  // namespace
 
 std::unique_ptr<FrameSource> open_cloud_files(std::vector<std::filesystem::path> files,
@@ -126,13 +135,16 @@ std::unique_ptr<FrameSource> FrameSource::open(const std::filesystem::path& inpu
   }
   if (!fs::exists(input)) throw Error(input.string() + ": no such file or folder");
   if (fs::is_directory(input)) {
-    std::vector<fs::path> files;
-    for (const auto& e : fs::directory_iterator(input))
-      if (e.is_regular_file() && cloud_format_of(e.path())) files.push_back(e.path());
-    std::sort(files.begin(), files.end());
+    fs::path dir = input;
+    auto files = detail::cloud_files_in(dir);
+    for (const char* sub : {"pcd", "velodyne"}) {  // a simulator's output, a KITTI sequence
+      if (!files.empty() || !fs::is_directory(input / sub)) continue;
+      dir = input / sub;
+      files = detail::cloud_files_in(dir);
+    }
     std::vector<std::string> warnings;
-    auto times = files.empty() ? std::vector<double>{}
-                               : detail::sequence_times(input, files.size(), warnings);
+    auto times =
+        files.empty() ? std::vector<double>{} : detail::sequence_times(dir, files.size(), warnings);
     return detail::open_cloud_files(std::move(files), input.string(), std::move(times),
                                     std::move(warnings));
   }

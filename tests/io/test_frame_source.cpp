@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/frame_source.hpp"
 #include "fieldlidar/io/kitti_bin.hpp"
 #include "test_data.hpp"
@@ -77,6 +78,40 @@ TEST(FrameSource, FolderFramesAreStampedByTheSequencesTimesFile) {
   EXPECT_EQ(stamps(dir, &warnings), (std::vector<double>{0, 0, 0}));
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("not used as the frames' clock"), std::string::npos) << warnings[0];
+}
+
+// A simulator's output folder (pcd/ beside velodyne/ and times.txt) and a KITTI sequence folder
+// (velodyne/ and times.txt) open as their frames; a folder with frames of its own is read as it
+// is, and one with neither names what it lacks.
+TEST(FrameSource, SequenceFolderOpensAsItsFramesSubfolder) {
+  const auto seq = test::temp_dir("frame_source_sequence");
+  std::filesystem::create_directories(seq / "velodyne");
+  for (int k = 0; k < 2; ++k)
+    write_bin(seq / "velodyne" / ("00000" + std::to_string(k) + ".bin"), k, 2);
+  std::ofstream(seq / "times.txt") << "0.5\n0.6\n";
+  const auto read = [](const std::filesystem::path& p) {
+    auto src = io::FrameSource::open(p);
+    std::vector<std::pair<std::size_t, double>> out;
+    while (auto f = src->next()) out.push_back({f->cloud.size(), f->stamp_s});
+    return std::pair(src->format(), out);
+  };
+  using Frames = std::vector<std::pair<std::size_t, double>>;
+  EXPECT_EQ(read(seq), std::pair(std::string("kitti-bin"), Frames{{2, 0.5}, {2, 0.6}}));
+  std::filesystem::create_directories(seq / "pcd");  // a simulator folder: its PCD frames first
+  PointCloud c;
+  c.points.resize(3);
+  for (int k = 0; k < 2; ++k)
+    io::write_cloud(seq / "pcd" / ("00000" + std::to_string(k) + ".pcd"), c);
+  EXPECT_EQ(read(seq), std::pair(std::string("pcd"), Frames{{3, 0.5}, {3, 0.6}}));
+  write_bin(seq / "own.bin", 9, 1);  // frames of its own: those
+  EXPECT_EQ(read(seq).second, (Frames{{1, 0}}));
+  const auto empty = test::temp_dir("frame_source_sequence_empty");
+  try {
+    io::FrameSource::open(empty);
+    ADD_FAILURE() << "an empty folder opened";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no .bin, .pcd, .ply or .las files"), std::string::npos);
+  }
 }
 
 TEST(FrameSource, SingleKittiFile) {

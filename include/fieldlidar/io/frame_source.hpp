@@ -58,8 +58,10 @@ class FrameSource {
   /// Opens `input`: a .bin/.pcd/.ply/.las file, a folder of them (name order), a glob such as
   /// "scans/*.pcd", a Velodyne or Ouster .pcap, or a ROS1 .bag. A folder's frames are stamped by
   /// the KITTI-style times.txt in it or beside it (a KITTI sequence's velodyne/, a simulator
-  /// folder's pcd/) when it lists one stamp per file. Throws fieldlidar::Error naming the input
-  /// and the problem.
+  /// folder's pcd/) when it lists one stamp per file. A folder without cloud files of its own
+  /// that holds a pcd/ or else a velodyne/ folder of them (a simulator's output, a KITTI
+  /// sequence) opens as that folder's frames. Throws fieldlidar::Error naming the input and the
+  /// problem.
   static std::unique_ptr<FrameSource> open(const std::filesystem::path& input,
                                            const SourceOptions& options = {});
   virtual ~FrameSource();
