@@ -122,6 +122,12 @@ NavigateResult run_navigate(const sim::Scene& scene, const SensorModel& sensor,
         "navigate: guess_looks must be in [0, 20] (is {}), guess_look_margin_m in [0, 10] (is "
         "{}), guess_look_depth_m in [0, 20] (is {})",
         config.guess_looks, config.guess_look_margin_m, config.guess_look_depth_m));
+  if (!(config.retry_budget_factor >= 1.0 && config.retry_budget_factor <= 100.0) ||
+      !(config.retry_lattice_cell_m >= 0.0 && config.retry_lattice_cell_m <= 10.0))
+    throw Error(fmt::format(
+        "navigate: retry_budget_factor must be in [1, 100] (is {}), retry_lattice_cell_m in [0, "
+        "10] (is {})",
+        config.retry_budget_factor, config.retry_lattice_cell_m));
   detail::Loop loop(scene, sensor, config);
   return loop.run(start, goal);
 }

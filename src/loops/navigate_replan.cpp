@@ -121,6 +121,8 @@ void Loop::plan(const std::string& trigger) {
     planning::PlannerConfig big = planner_cfg_;
     big.time_budget_ms *= cfg_.retry_budget_factor;
     big.max_expansions = int(big.max_expansions * cfg_.retry_budget_factor);
+    if (cfg_.retry_lattice_cell_m > grid.geometry().resolution_m)
+      big.lattice_cell_m = std::max(big.lattice_cell_m, cfg_.retry_lattice_cell_m);
     planning::HybridAStar planner(grid, robot_, big);
     p = planner.plan(me(), target);
   }

@@ -46,6 +46,7 @@ bool config_valid(const PlannerConfig& c) {
   return std::isfinite(c.min_turn_radius_m) && c.min_turn_radius_m >= 0.1 &&
          c.min_turn_radius_m <= 100.0 && c.heading_bins >= 8 && c.heading_bins <= 720 &&
          std::isfinite(c.step_m) && c.step_m >= 0.0 && c.step_m <= 10.0 &&
+         std::isfinite(c.lattice_cell_m) && c.lattice_cell_m >= 0.0 && c.lattice_cell_m <= 10.0 &&
          std::isfinite(c.time_budget_ms) && c.time_budget_ms > 0.0 && c.max_expansions > 0 &&
          c.tau_weight >= 0.0 && c.reverse_factor >= 1.0 && c.turn_factor >= 1.0 &&
          c.direction_change_penalty_m >= 0.0 && c.path_resolution_m > 0.0 &&
@@ -139,8 +140,13 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
   if (!map_.pose_free(goal)) return fail(PlanStatus::kGoalInCollision);
 
   const double R = c.min_turn_radius_m;
-  const double res = map_.geometry().resolution_m;
-  const double step = c.step_m > 0.0 ? c.step_m : res * std::numbers::sqrt2 * 1.05;
+  const auto& geo = map_.geometry();
+  const double res = geo.resolution_m;
+  const double lattice = c.lattice_cell_m > 0.0 ? c.lattice_cell_m : res;
+  const long lattice_width = long(std::ceil(geo.width * res / lattice));
+  const double lattice_cells = double(lattice_width) * std::ceil(geo.height * res / lattice);
+  if (lattice_cells * c.heading_bins >= 4.0e9) return fail(PlanStatus::kInvalidInput);
+  const double step = c.step_m > 0.0 ? c.step_m : lattice * std::numbers::sqrt2 * 1.05;
   const double check_step = std::min(0.5 * res, 0.25);  // footprint checks along an arc (m)
   const int bins = c.heading_bins;
   const double bin_rad = 2.0 * std::numbers::pi / bins;
@@ -156,6 +162,9 @@ PlanResult HybridAStar::plan(const Pose2& start_in, const Pose2& goal_in) {
   auto state_of = [&](const Pose2& p, long cell) {
     int b = int(std::lround(p.yaw_rad / bin_rad)) % bins;
     if (b < 0) b += bins;
+    if (lattice != res)  // the lattice cell holding p (p is on the map)
+      cell = long((p.y_m - geo.origin_m.y()) / lattice) * lattice_width +
+             long((p.x_m - geo.origin_m.x()) / lattice);
     return std::uint32_t(cell) * std::uint32_t(bins) + std::uint32_t(b);
   };
   auto cost_mult = [&](long cell) {

@@ -67,6 +67,19 @@ TEST(CliNavigate, ShortDriveWritesItsFilesAndKeepsThem) {
 
   const auto help = run_cli("navigate --help");
   EXPECT_NE(help.output.find("(m, m, rad"), std::string::npos) << help.output;
+
+  // Finer cells: the same drive on a 0.25 m map, scored on a 0.25 m truth; absurd cells refused.
+  const auto fine = run_cli(args + " --force --cell 0.25");
+  ASSERT_EQ(fine.exit_code, 0) << fine.output;
+  const auto jf = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(jf["cell_m"], 0.25);
+  EXPECT_EQ(j["cell_m"], 0.5);
+  EXPECT_EQ(jf["outcome"], "arrived");
+  EXPECT_EQ(jf["frames_on_impassable"], 0);
+  EXPECT_LE(jf["length_ratio"].get<double>(), 1.15);
+  const auto absurd = run_cli(args + " --force --cell 0.01");
+  EXPECT_EQ(absurd.exit_code, 1);
+  EXPECT_NE(absurd.output.find("--cell"), std::string::npos) << absurd.output;
 }
 
 // --pose-source odometry: the robot maps and drives by its LiDAR odometry; the summary says so

@@ -48,6 +48,34 @@ TEST(HybridAStar, MazeIsSolvedRoundBothWalls) {
   for (const auto& s : r.path) EXPECT_FALSE(planner.map().footprint_hits_blocked(s.pose, 0.0));
 }
 
+// The maze on 0.25 m cells, searched near the optimum: on a 0.5 m lattice
+// (PlannerConfig::lattice_cell_m) it expands about a third of the nodes it does on the map's own
+// cells (3,667 against 10,648 measured) for a path 1 % longer, which still keeps the exact
+// footprint off every blocked cell.
+TEST(HybridAStar, CoarserLatticeOnAFineMapSearchesLess) {
+  Grid2D map = open_map(30, 30, 0.25);
+  block(map, 9, 0, 10, 22);
+  block(map, 19, 8, 20, 30);
+  PlannerConfig fine_cfg;
+  fine_cfg.heuristic_weight = 1.0;  // a search near the lattice's optimum
+  PlannerConfig coarse_cfg = fine_cfg;
+  coarse_cfg.lattice_cell_m = 0.5;
+  HybridAStar fine(map, {}, fine_cfg), coarse(map, {}, coarse_cfg);
+  const Pose2 start{4, 4, M_PI / 2}, goal{26, 26, M_PI / 2};
+  const auto f = fine.plan(start, goal), c = coarse.plan(start, goal);
+  ASSERT_TRUE(f.ok()) << to_string(f.status);
+  ASSERT_TRUE(c.ok()) << to_string(c.status);
+  std::printf("maze on 0.25 m cells: own lattice %d expansions, %.2f m; 0.5 m lattice %d, %.2f m\n",
+              f.expansions, path_length_m(f.path), c.expansions, path_length_m(c.path));
+  EXPECT_LT(2 * c.expansions, f.expansions);
+  EXPECT_LT(path_length_m(c.path), 1.05 * path_length_m(f.path));
+  for (const auto& s : c.path) EXPECT_FALSE(coarse.map().footprint_hits_blocked(s.pose, 0.0));
+  coarse_cfg.lattice_cell_m = -0.5;
+  EXPECT_EQ(HybridAStar(map, {}, coarse_cfg).plan(start, goal).status, PlanStatus::kInvalidInput);
+  coarse_cfg.lattice_cell_m = std::nan("");
+  EXPECT_EQ(HybridAStar(map, {}, coarse_cfg).plan(start, goal).status, PlanStatus::kInvalidInput);
+}
+
 TEST(HybridAStar, UTrapNeedsReversing) {
   // A 1.6 m wide dead end (too narrow to turn round at R = 1 m) with the robot facing its end.
   Grid2D map = open_map(24, 30);

@@ -178,6 +178,24 @@ std::vector<fs::path> navigate_files(const fs::path& dir) {
           dir / "built_map.yaml",   dir / "built_map.pgm"};
 }
 
+nlohmann::json navigate_settings(const loops::NavigateConfig& cfg) {
+  const auto& robot = cfg.fusion.layers.robot;
+  return {{"robot",
+           {{"length_m", robot.length_m},
+            {"width_m", robot.width_m},
+            {"max_slope_deg", robot.max_slope_deg},
+            {"max_step_m", robot.max_step_m},
+            {"min_turn_radius_m", robot.min_turn_radius_m}}},
+          {"cell_m", cfg.fusion.layers.cell_m},
+          {"lidar_pitch_deg", cfg.lidar_pitch_deg},
+          {"start_look_rad", cfg.start_look_rad},
+          {"approach_m", cfg.approach_m},
+          {"blind_drop_clear_m", cfg.blind_drop_clear_m},
+          {"tilt_stop_deg", cfg.tilt_stop_deg},
+          {"guess_looks_allowed", cfg.guess_looks},
+          {"noise_seed", cfg.sim_seed}};
+}
+
 nlohmann::json navigate_summary(const loops::NavigateResult& r) {
   nlohmann::json j;
   j["outcome"] = loops::to_string(r.outcome);

@@ -15,6 +15,10 @@ namespace fieldlidar::app {
 /// The files a run writes into its folder.
 std::vector<std::filesystem::path> navigate_files(const std::filesystem::path& dir);
 
+/// The settings a run drove with, for its summary.json: the robot, the map's cells, the start's
+/// and the sensor's options.
+nlohmann::json navigate_settings(const loops::NavigateConfig& cfg);
+
 /// summary.json's content (outcome, reason, lengths, ratio, impassable frames, replans, ...).
 nlohmann::json navigate_summary(const loops::NavigateResult& r);
 

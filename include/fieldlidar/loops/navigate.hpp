@@ -53,6 +53,9 @@ planning::PlannerConfig navigate_planner_config();
 /// slope, and its lowest ring's returns there (2-3 m out on a VLP-32C) were left out of the
 /// ground and read as obstacles round the start. Navigate pairs, seeds 2-21, with levelling ->
 /// without: VLP-32C 172 -> 180 of 184 arrive, VLP-16 180 -> 180 (docs/navigate.md).
+/// Cells of 0.5 m (fusion.layers.cell_m; `fieldlidar navigate --cell`): 0.25 m cells plan gaps
+/// and halos finer and drive shorter, but a robot switched on in open level ground knows no cell
+/// of them (docs/navigate.md, "Finer cells").
 terrain::FusionConfig navigate_fusion_config();
 
 struct NavigateConfig {
@@ -227,8 +230,14 @@ struct NavigateConfig {
   double detour_hold_ratio = 1.5;
   double hold_stop_m = 1.5;
   double hold_min_ahead_m = 3.0;
-  /// A plan that runs out of time or expansions is tried once more with this many times both.
+  /// A plan that runs out of time or expansions is tried once more with this many times both,
+  /// searched on a lattice of `retry_lattice_cell_m` cells (PlannerConfig::lattice_cell_m) when
+  /// the map's are finer: a search that has to exhaust the lattice to find that no way exists
+  /// (a goal walled in) grows with the number of lattice cells: on 0.25 m cells with the retry
+  /// on its own lattice, 10 of the 56 truth-unreachable goals of seeds 2-21 ended `failed` (the
+  /// budget spent three times) instead of reported unreachable, on a 0.5 m lattice none.
   double retry_budget_factor = 5.0;
+  double retry_lattice_cell_m = 0.5;
   double goal_tolerance_m = 0.3;        ///< arrived: this close to the goal ...
   double goal_yaw_tolerance_rad = 0.3;  ///< ... and this well aligned
   double max_time_s = 0.0;              ///< 0: 40 s + 4 x the straight distance / cruise speed

@@ -21,8 +21,13 @@ struct PlannerConfig {
   /// R_min; valid range [0.1, 100] m
   double min_turn_radius_m = terrain::RobotConfig{}.min_turn_radius_m;
   int heading_bins = 72;  ///< search lattice headings (5 deg)
-  /// Arc length of one motion primitive (m); 0: just over a cell diagonal, so a child always
-  /// leaves its parent's cell.
+  /// Side of the search lattice's cells (m): a node whose pose falls in the cell and heading bin
+  /// of an expanded node is a duplicate. 0: the map's cells; a map finer than this is still
+  /// checked at its own resolution (footprint, cost), but searched on the coarser lattice (a
+  /// 0.25 m map searched on a 0.5 m lattice expands about as many nodes as a 0.5 m map).
+  double lattice_cell_m = 0.0;
+  /// Arc length of one motion primitive (m); 0: just over a lattice cell's diagonal, so a child
+  /// always leaves its parent's cell.
   double step_m = 0.0;
   /// Cost of a metre driven: (1 + tau_weight * (1 - tau)) (low tau costs more; seed 004).
   double tau_weight = 2.0;
