@@ -24,6 +24,7 @@
 #include "support/navigate_output.hpp"
 #include "support/navigate_tally.hpp"
 #include "support/option_checks.hpp"
+#include "support/output_folder.hpp"
 #include "support/planar_paths.hpp"
 
 namespace fieldlidar::app {
@@ -178,9 +179,10 @@ void run(const NavigateOptions& o) {
   std::vector<std::string> lines;
   NavigateTally tally;
   int mismatches = 0;
+  const OutputFolder folder(out);  // gone again if the first drive is refused before any output
   for (const auto& p : pairs) {
     const fs::path dir = many ? out / p.name : out;
-    fs::create_directories(dir);
+    const OutputFolder pair_folder(dir);
     for (const auto& f : navigate_files(dir)) io::check_writable(f, o.force);
     fmt::print(stderr, "navigate {}: ({:.1f}, {:.1f}, {:.2f}) -> ({:.1f}, {:.1f}, {:.2f}) ...\n",
                p.name, p.start.x_m, p.start.y_m, p.start.yaw_rad, p.goal.x_m, p.goal.y_m,

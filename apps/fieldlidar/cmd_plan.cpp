@@ -18,6 +18,7 @@
 #include "fieldlidar/terrain/robot_config.hpp"
 #include "support/canvas.hpp"
 #include "support/option_checks.hpp"
+#include "support/output_folder.hpp"
 #include "support/plan_map.hpp"
 #include "support/planar_paths.hpp"
 
@@ -93,7 +94,7 @@ void run(const PlanOptions& o) {
   const fs::path out(o.out);
   if (fs::exists(out) && !fs::is_directory(out))
     throw Error("plan: --out " + o.out + " is not a folder");
-  fs::create_directories(out);
+  const OutputFolder folder(out);  // gone again if the plan is refused before any output
   for (const char* n : {"path.csv", "path_raw.csv", "path.geojson", "plan.png", "summary.json"})
     io::check_writable(out / n, o.force, read.files);
 

@@ -30,6 +30,7 @@
 #include "fieldlidar/terrain/terrain_map.hpp"
 #include "fieldlidar/terrain/traversability.hpp"
 #include "support/option_checks.hpp"
+#include "support/output_folder.hpp"
 #include "support/progress_line.hpp"
 #include "support/sensor_choice.hpp"
 #include "support/terrain_picture.hpp"
@@ -217,7 +218,7 @@ void run(const TraversabilityOptions& o) {
     throw Error("traversability: --out " + o.out + " is not a folder");
   terrain::TraversabilityConfig cfg;
   if (!o.robot.empty()) cfg.robot = terrain::load_robot_config(o.robot);
-  fs::create_directories(out);
+  const OutputFolder folder(out);  // gone again if the input is refused before any output
   for (const auto& n : names) io::check_writable(out / n, o.force, {fs::path(o.input)});
 
   // A sequence: a folder, a glob, a capture, or any input with --poses.

@@ -22,6 +22,7 @@
 #include "fieldlidar/odometry/lidar_odometry.hpp"
 #include "fieldlidar/segmentation/ground.hpp"
 #include "support/option_checks.hpp"
+#include "support/output_folder.hpp"
 #include "support/progress_line.hpp"
 #include "support/sensor_choice.hpp"
 #include "support/trunks_output.hpp"
@@ -62,7 +63,7 @@ Pose truth_to_cloud(const PointCloud& cloud, const std::optional<Pose>& T_world_
 // A sequence: every scan tracked against the trunk map (optionally on the odometry's motion).
 void run_sequence(const TrunksOptions& o, const Truth& truth) {
   const fs::path out(o.out);
-  fs::create_directories(out);
+  const OutputFolder folder(out);  // gone again if the input is refused before any output
   for (const char* n : {"poses.txt", "poses_tum.txt", "trees.csv", "trees.geojson", "trees.png"})
     io::check_writable(out / n, o.force, {fs::path(o.input)});
   const fs::path input(o.input);
@@ -190,7 +191,7 @@ void run(const TrunksOptions& o) {
   if (is_sequence(o.input)) return run_sequence(o, truth);
   const fs::path out(o.out);
   const std::vector<std::string> names = {"trees.csv", "trees.geojson", "trees.png"};
-  fs::create_directories(out);
+  const OutputFolder folder(out);
   for (const auto& n : names) io::check_writable(out / n, o.force, {fs::path(o.input)});
   const PointCloud cloud = io::read_cloud(o.input);
   if (cloud.valid_count() == 0) throw Error(o.input + ": holds no points: no trunks to look for");

@@ -58,6 +58,33 @@ TEST(CliEmptyInput, CommandsWithoutAPointFailNamingTheInput) {
   EXPECT_FALSE(fs::exists(dir / "trunks" / "trees.csv"));
 }
 
+// A command refused for its input after making its output folder takes the folder away again:
+// no empty folder is left where the user asked for results.
+TEST(CliEmptyInput, RefusedRunsLeaveNoEmptyOutputFolder) {
+  const auto dir = test::temp_dir("cli_refused_folders");
+  const auto frames = dir / "frames";
+  fs::create_directories(frames);  // a folder of no frame file
+  const std::string in = test::quoted(frames);
+  const struct {
+    std::string args, out;
+  } cases[] = {
+      {"traversability " + in + " --out " + test::quoted(dir / "t"), "t"},
+      {"trunks " + in + " --out " + test::quoted(dir / "tr"), "tr"},
+      {"odometry " + in + " --out " + test::quoted(dir / "o"), "o"},
+      {"plan --map " + in + " --start 1,1,0 --goal 2,2,0 --out " + test::quoted(dir / "p"), "p"},
+      {"navigate --goal 100,1,0 --out " + test::quoted(dir / "n"), "n"},
+      {"navigate --pairs " + test::quoted(dir / "pairs.csv") + " --out " + test::quoted(dir / "np"),
+       "np"},
+  };
+  std::ofstream(dir / "pairs.csv") << "far,3,20,0,100,20,0\n";  // a goal off the scene
+  for (const auto& c : cases) {
+    const auto r = test::run_cli(c.args);
+    EXPECT_EQ(r.exit_code, 1) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find("fieldlidar: error: "), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / c.out)) << c.args;
+  }
+}
+
 // A capture shorter than one sweep gives no frame: an error saying why, and no folder left.
 TEST(CliEmptyInput, CaptureWithoutACompleteSweepConvertsToNothing) {
   const std::string name = "velodyne_pcap/hdl32_example.pcap";
