@@ -33,6 +33,7 @@
 #include "support/output_folder.hpp"
 #include "support/progress_line.hpp"
 #include "support/sensor_choice.hpp"
+#include "support/sweep_levelling.hpp"
 #include "support/terrain_picture.hpp"
 #include "support/warnings.hpp"
 
@@ -266,7 +267,8 @@ void run(const TraversabilityOptions& o) {
     if (sweep) {
       const SensorModel sensor = sensor_for(cloud, o.input, o.sensor);
       j["sensor"] = sensor.name;
-      map = terrain::map_scan(cloud, sensor, Pose::Identity(), cfg);
+      map = terrain::map_scan(cloud, sensor,
+                              levelling_pose(cloud, cfg.ground.levelling, o.input, j), cfg);
       what = "sweep, " + sensor.name;
     } else {
       warn(

@@ -6,10 +6,14 @@
 #include <iterator>
 #include <sstream>
 #include <string>
+#include <tuple>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "fieldlidar/core/rotate_points.hpp"
+#include "fieldlidar/io/cloud_file.hpp"
 #include "run_cli.hpp"
 #include "test_data.hpp"
 
@@ -128,6 +132,47 @@ TEST(CliTraversability, SimulatedTerrainFrameAndRefusesToOverwrite) {
       run_cli(args({"traversability", quoted(dir / "missing.pcd"), "--out", quoted(dir / "o2")}))
           .exit_code,
       1);
+}
+
+// A sweep from a sensor mounted pitched 30 deg, or upside down, is mapped level (the rotation
+// that takes the ground plane's up to z), said in a warning and the summary: its map is the
+// level sweep's. Laid in the sensor's own frame, as before, the pitched sweep's map held 28
+// passable cells against the level one's 196, and the upside-down one laid its ground 1.2 m
+// above the sensor.
+TEST(CliTraversability, TiltedOrUpsideDownSensorIsMappedLevel) {
+  const auto dir = temp_dir("cli_traversability_tilt");
+  const auto sim = dir / "sim";
+  ASSERT_EQ(run_cli(args({"simulate", "--scene", "terrain", "--frames", "1", "--out", quoted(sim)}))
+                .exit_code,
+            0);
+  const PointCloud level = io::read_cloud(sim / "pcd" / "000000.pcd");
+  const auto map_of = [&](const std::string& name, const Eigen::Matrix3f& R) {
+    PointCloud c = level;
+    rotate_points(c, R);
+    io::write_cloud(dir / (name + ".pcd"), c);
+    const auto r = run_cli(args({"traversability", quoted(dir / (name + ".pcd")), "--sensor",
+                                 "vlp16", "--out", quoted(dir / name)}));
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return std::pair(nlohmann::json::parse(slurp(dir / name / "summary.json")), r.output);
+  };
+  const auto [flat, flat_out] = map_of("level", Eigen::Matrix3f::Identity());
+  EXPECT_EQ(flat["levelled"], false);
+  EXPECT_EQ(flat_out.find("is tilted"), std::string::npos) << flat_out;
+  const Eigen::Matrix3f pitch =
+      Eigen::AngleAxisf(float(30.0 * M_PI / 180.0), Eigen::Vector3f::UnitY()).toRotationMatrix();
+  const Eigen::Matrix3f over =
+      Eigen::AngleAxisf(float(M_PI), Eigen::Vector3f::UnitX()).toRotationMatrix();
+  for (const auto& [name, R, upside] :
+       {std::tuple{"pitched", pitch, false}, std::tuple{"upside_down", over, true}}) {
+    const auto [j, out] = map_of(name, R);
+    EXPECT_EQ(j["levelled"], true) << name;
+    EXPECT_EQ(j["upside_down"], upside) << name;
+    EXPECT_NEAR(j["tilt_deg"].get<double>(), upside ? 180.0 : 30.0, 2.0) << name;
+    EXPECT_NE(out.find("is tilted"), std::string::npos) << out;
+    for (const char* k : {"cells_known", "cells_passable", "cells_impassable"})
+      EXPECT_NEAR(j[k].get<double>(), flat[k].get<double>(), 0.15 * flat[k].get<double>())
+          << name << " " << k;
+  }
 }
 
 TEST(CliTraversability, SequenceFusedWithPosesRobotConfigAndGeoTiffs) {
