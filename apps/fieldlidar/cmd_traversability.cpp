@@ -268,7 +268,7 @@ void run(const TraversabilityOptions& o) {
       const SensorModel sensor = sensor_for(cloud, o.input, o.sensor);
       j["sensor"] = sensor.name;
       map = terrain::map_scan(cloud, sensor,
-                              levelling_pose(cloud, cfg.ground.levelling, o.input, j), cfg);
+                              levelling_pose(cloud, cfg.ground.levelling, o.input, &j), cfg);
       what = "sweep, " + sensor.name;
     } else {
       warn(

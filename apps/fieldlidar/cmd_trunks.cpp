@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/core/rotate_points.hpp"
 #include "fieldlidar/forest/stem_slice.hpp"
 #include "fieldlidar/forest/tracking.hpp"
 #include "fieldlidar/forest/trunks.hpp"
@@ -25,6 +26,7 @@
 #include "support/output_folder.hpp"
 #include "support/progress_line.hpp"
 #include "support/sensor_choice.hpp"
+#include "support/sweep_levelling.hpp"
 #include "support/trunks_output.hpp"
 #include "support/trunks_truth.hpp"
 #include "support/warnings.hpp"
@@ -193,15 +195,19 @@ void run(const TrunksOptions& o) {
   const std::vector<std::string> names = {"trees.csv", "trees.geojson", "trees.png"};
   const OutputFolder folder(out);
   for (const auto& n : names) io::check_writable(out / n, o.force, {fs::path(o.input)});
-  const PointCloud cloud = io::read_cloud(o.input);
+  PointCloud cloud = io::read_cloud(o.input);
   if (cloud.valid_count() == 0) throw Error(o.input + ": holds no points: no trunks to look for");
   if (const auto why = segmentation::implausible_span(cloud)) throw Error(o.input + ": " + *why);
   if (!cloud.fields.ring && forest::is_stem_slice(cloud)) return run_slice(o, cloud, truth);
+  // A sweep from a sensor mounted tilted or upside down is levelled first (its trunks stand up);
+  // the trees are given in that levelled frame.
+  const bool sweep = segmentation::check_sweep(cloud).sweep;
+  const Pose level = sweep ? levelling_pose(cloud, {}, o.input) : Pose::Identity();
+  rotate_points(cloud, level.linear().cast<float>());
   // A sweep with rings gets the robust ground; a plot file, or a sweep without rings (its trunks
   // come from horizontal slices, as a plot's do), the grid: the ring-less sweep of forest_sloam
   // gave no stack at all on the robust ground.
   segmentation::GroundResult ground;
-  const bool sweep = segmentation::check_sweep(cloud).sweep;
   if (sweep && cloud.fields.ring) {
     ground = segmentation::segment_ground(cloud, sensor_for(cloud, o.input, o.sensor));
   } else {
@@ -231,7 +237,7 @@ void run(const TrunksOptions& o) {
     const auto T_world_scan = simulator_scan_pose(o.input);
     if (sweep && !T_world_scan)
       warn("--truth: no simulator poses.txt for this scan; the truth is taken in its frame");
-    const auto in_cloud = moved(*truth, truth_to_cloud(cloud, T_world_scan));
+    const auto in_cloud = moved(*truth, level * truth_to_cloud(cloud, T_world_scan));
     if (sweep)
       print_trunk_scores(result.trees, in_cloud, {Eigen::Vector3d::Zero()}, 15.0);
     else

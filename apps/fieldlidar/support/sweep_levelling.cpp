@@ -8,23 +8,25 @@
 namespace fieldlidar::app {
 
 Pose levelling_pose(const PointCloud& cloud, const segmentation::LevellingConfig& config,
-                    const std::string& input, nlohmann::json& summary) {
+                    const std::string& input, nlohmann::json* summary) {
   const segmentation::UpEstimate up = segmentation::estimate_up(cloud, config);
   const bool level = up.found && up.tilt_deg > config.level_tolerance_deg;
-  summary["tilt_deg"] = up.tilt_deg;
-  summary["upside_down"] = up.upside_down;
-  summary["levelled"] = level;
+  if (summary) {
+    (*summary)["tilt_deg"] = up.tilt_deg;
+    (*summary)["upside_down"] = up.upside_down;
+    (*summary)["levelled"] = level;
+  }
   Pose T = Pose::Identity();
   if (!up.found)
     warn(
         fmt::format("{}: no ground plane below the sensor within {} deg of its z axis, upright "
-                    "or turned over: mapped as if level",
+                    "or turned over: taken as level",
                     input, config.max_tilt_deg));
   if (!level) return T;
   T.linear() =
       Eigen::Quaterniond::FromTwoVectors(up.up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   warn(
-      fmt::format("{}: the sensor is tilted {:.1f} deg{}: the sweep is mapped levelled to the "
+      fmt::format("{}: the sensor is tilted {:.1f} deg{}: the sweep is levelled to the "
                   "ground plane below it",
                   input, up.tilt_deg, up.upside_down ? " (upside down)" : ""));
   return T;
