@@ -303,10 +303,10 @@ void add_navigate_command(CLI::App& app) {
       ->check(whole_in(0, 20));
   cmd->add_option("--cell", o->cell_m,
                   "Side of the map's cells (m): the robot's fused map, the truth it is scored on "
-                  "and the planner's. 0.25 plans gaps and obstacle halos finer and drives shorter "
-                  "in about twice the time, but needs sweeps from more than one pose to know "
-                  "level ground between the rings (a cold start in open level ground finds no "
-                  "known cell)")
+                  "and the planner's. The map's rules were chosen on 0.5 m cells; 0.25 plans gaps "
+                  "and obstacle halos finer and drives shorter in about twice the time, but reads "
+                  "ditches worse and needs sweeps from more than one pose to know level ground "
+                  "between the rings (docs/navigate.md)")
       ->capture_default_str()
       ->check(real_in(0.1, 2));
   cmd->add_option("--margin", o->margin_m,
