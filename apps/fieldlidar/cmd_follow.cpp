@@ -290,11 +290,13 @@ void add_follow_command(CLI::App& app) {
       "and controller on the recorded scans, the robot's motion from the recording "
       "(commands logged, not applied); writes follow_log.csv, summary.json and "
       "follow.png");
-  cmd->add_option("--topic", o->topic, "With --replay: the scan topic (default: the only one)");
+  cmd->add_option("--topic", o->topic, "With --replay: the scan topic (default: the only one)")
+      ->needs(replay);
   cmd->add_option("--odom", o->odom_topic,
                   "With --replay: nav_msgs/Odometry topic of the bag giving the robot's motion, or "
                   "a TUM pose file of the sensor (e.g. a simulate folder's poses_tum.txt) "
-                  "(default: the robot stands still)");
+                  "(default: the robot stands still)")
+      ->needs(replay);
   cmd->add_option("--rate", o->rate_hz,
                   "With --replay: stamp the frames at this rate (Hz) from the first one's stamp, "
                   "for frames without a clock (a folder of frames with no times.txt in or beside "

@@ -88,6 +88,21 @@ TEST(CliIgnoredOptions, SimulateRefusesLawnSettingsForOtherScenes) {
   EXPECT_FALSE(fs::exists(dir / "sim"));
 }
 
+// The simulated follow loop has no recording: the replay's options are refused without
+// --replay (they were ignored, and the loop ran on the simulator as if they had not been given).
+TEST(CliIgnoredOptions, FollowRefusesReplayOptionsWithoutAReplay) {
+  const auto dir = test::temp_dir("cli_follow_options");
+  for (const std::string option : {"--topic /scan", "--odom /odom", "--rate 10"}) {
+    const auto r = test::run_cli("follow " + option + " --out " + test::quoted(dir / "f"));
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("fieldlidar: error: " + option.substr(0, option.find(' ')) +
+                            " requires --replay"),
+              std::string::npos)
+        << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "f"));
+}
+
 TEST(CliIgnoredOptions, NavigateAndPlanArgumentsAreCheckedUpFront) {
   const auto dir = test::temp_dir("cli_navigate_options");
   std::ofstream(dir / "pairs.csv") << "a,-20,0,0,20,0,0\nb,-20,5,0,20,5,0\na,-20,-5,0,20,-5,0\n";
