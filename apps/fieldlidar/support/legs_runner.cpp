@@ -13,6 +13,7 @@
 #include "fieldlidar/people/joint_tracker_yaml.hpp"
 #include "fieldlidar/people/leg_training.hpp"
 #include "support/shipped_data.hpp"
+#include "support/sweep_levelling.hpp"
 
 namespace fieldlidar::app {
 
@@ -119,7 +120,11 @@ FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSourc
   follow_cfg_.legs = options_.config.empty() ? follow::FollowConfig::default_3d_legs() : legs_;
   PointCloud cloud = frame.cloud;
   follow::ensure_rings(cloud, *sensor_);  // KITTI and unorganised PCD have no ring field
-  const auto per = follow::perceive(cloud, *sensor_, Pose::Identity(), follow_cfg_);
+  // A sweep tilted past the levelling's tolerance or turned over (a mount, a vehicle on a
+  // slope) is levelled by its ground plane: the legs and persons are found and given in that
+  // levelled frame (said once).
+  const Pose T_level = levelling_pose(cloud, {}, options_.input, nullptr, &level_warned_);
+  const auto per = follow::perceive(cloud, *sensor_, T_level, follow_cfg_);
   out.legs = per.legs_m;
   // Tracking in the sensor frame (the sensor is assumed still); confirmed tracks only.
   const auto upd = tracker_.update(frame.stamp_s, per.people_m);

@@ -74,6 +74,7 @@ class LegsRunner {
   people::PersonTracker tracker_;
   follow::FollowConfig follow_cfg_;
   std::optional<SensorModel> sensor_;
+  bool level_warned_ = false;  ///< 3D: a tilted sweep was said (support/sweep_levelling)
   FrameClock clock_;
   std::size_t scans_2d_ = 0, resampled_ = 0;  ///< 2D scans processed, and those resampled
 };

@@ -8,7 +8,7 @@
 namespace fieldlidar::app {
 
 Pose levelling_pose(const PointCloud& cloud, const segmentation::LevellingConfig& config,
-                    const std::string& input, nlohmann::json* summary) {
+                    const std::string& input, nlohmann::json* summary, bool* warned) {
   const segmentation::UpEstimate up = segmentation::estimate_up(cloud, config);
   const bool level = up.found && up.tilt_deg > config.level_tolerance_deg;
   if (summary) {
@@ -17,7 +17,9 @@ Pose levelling_pose(const PointCloud& cloud, const segmentation::LevellingConfig
     (*summary)["levelled"] = level;
   }
   Pose T = Pose::Identity();
-  if (!up.found)
+  const bool say = !(warned && *warned);
+  if (warned && (!up.found || level)) *warned = true;
+  if (!up.found && say)
     warn(
         fmt::format("{}: no ground plane below the sensor within {} deg of its z axis, upright "
                     "or turned over: taken as level",
@@ -25,10 +27,11 @@ Pose levelling_pose(const PointCloud& cloud, const segmentation::LevellingConfig
   if (!level) return T;
   T.linear() =
       Eigen::Quaterniond::FromTwoVectors(up.up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  warn(
-      fmt::format("{}: the sensor is tilted {:.1f} deg{}: the sweep is levelled to the "
-                  "ground plane below it",
-                  input, up.tilt_deg, up.upside_down ? " (upside down)" : ""));
+  if (say)
+    warn(
+        fmt::format("{}: the sensor is tilted {:.1f} deg{}: the sweep is levelled to the "
+                    "ground plane below it",
+                    input, up.tilt_deg, up.upside_down ? " (upside down)" : ""));
   return T;
 }
 

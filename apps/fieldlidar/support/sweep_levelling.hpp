@@ -18,7 +18,9 @@ namespace fieldlidar::app {
 /// ground
 /// segmentation levels for itself, but a map laid in the tilted frame is not level (an
 /// upside-down sweep mapped its ground 1.2 m above the sensor), nor are its trunks upright.
+/// `warned`, when given, says once per stream: set after the first warning, none after it.
 Pose levelling_pose(const PointCloud& cloud, const segmentation::LevellingConfig& config,
-                    const std::string& input, nlohmann::json* summary = nullptr);
+                    const std::string& input, nlohmann::json* summary = nullptr,
+                    bool* warned = nullptr);
 
 }  // namespace fieldlidar::app
