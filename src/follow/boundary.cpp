@@ -5,17 +5,11 @@
 #include <cstdio>
 #include <limits>
 
+#include "fieldlidar/core/segment_distance.hpp"
+
 namespace fieldlidar::follow {
 
 namespace {
-
-double point_segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                              const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double l2 = ab.squaredNorm();
-  const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * ab)).norm();
-}
 
 void douglas_peucker(const std::vector<Eigen::Vector2d>& pts, std::size_t first, std::size_t last,
                      double tol, std::vector<bool>& keep) {

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "fieldlidar/core/rotate_points.hpp"
+#include "fieldlidar/core/segment_distance.hpp"
 
 namespace fieldlidar::follow {
 
@@ -235,13 +236,7 @@ bool FollowPipeline::quick_retake(const Perception& perception, const people::Tr
     return false;
   // Between where the target was last seen and where it would be had it walked on (it may
   // have stopped, or its last velocity may be a broken track's).
-  const Eigen::Vector2d last = tracker_.target_last_m(), way = tracker_.target_predicted_m() - last;
-  const auto off_way = [&](const Eigen::Vector2d& p) {
-    const double s = way.squaredNorm() > 1e-12
-                         ? std::clamp((p - last).dot(way) / way.squaredNorm(), 0.0, 1.0)
-                         : 0.0;
-    return (p - (last + s * way)).norm();
-  };
+  const Eigen::Vector2d last = tracker_.target_last_m(), walked_on = tracker_.target_predicted_m();
   std::optional<std::size_t> best;
   double best_d = config_.quick_retake_radius_m;
   for (std::size_t j = 0; j < perception.people_ids.size(); ++j) {
@@ -249,7 +244,7 @@ bool FollowPipeline::quick_retake(const Perception& perception, const people::Tr
     if (update.track_of_detection[j] < 0 ||
         (seen != source_first_seen_s_.end() && seen->second < stamp_s - lost_s))
       continue;  // not followed by the tracker, or a person the detector had before the loss
-    const double d = off_way(perception.people_m[j]);
+    const double d = point_segment_distance(perception.people_m[j], last, walked_on);
     if (d <= best_d) best = j, best_d = d;
   }
   if (!best || !tracker_.retake(std::uint32_t(update.track_of_detection[*best]))) return false;

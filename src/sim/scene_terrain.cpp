@@ -7,6 +7,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "fieldlidar/core/segment_distance.hpp"
 #include "fieldlidar/sim/scenes.hpp"
 
 namespace fieldlidar::sim {
@@ -16,13 +17,6 @@ namespace {
 double smoothstep(double e0, double e1, double x) {
   const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
   return t * t * (3 - 2 * t);
-}
-
-double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                        const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double u = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-  return (p - (a + u * ab)).norm();
 }
 
 }  // namespace
@@ -61,7 +55,7 @@ Scene make_terrain_scene(const TerrainConfig& cfg, std::uint64_t seed) {
     double h = 0.6 * std::sin(0.07 * x + p1) * std::cos(0.09 * y + p2) + 0.02 * x;
     h += amp * std::exp(-(p - hill).squaredNorm() / (2 * sigma * sigma));
     // Ditch: 0.8 m deep, 1 m half-width, cosine cross-section.
-    const double dd = segment_distance(p, ditch_a, ditch_b);
+    const double dd = point_segment_distance(p, ditch_a, ditch_b);
     if (dd < 1.0) h -= 0.8 * 0.5 * (1 + std::cos(std::numbers::pi * dd));
     for (const auto& pit : pits) {
       const double d = (p - pit.c).norm();
@@ -83,7 +77,7 @@ Scene make_terrain_scene(const TerrainConfig& cfg, std::uint64_t seed) {
   scene.set_robot_route(route, false);
   const auto near_route = [&](const Eigen::Vector2d& p, double clearance) {
     for (std::size_t i = 0; i + 1 < route.size(); ++i)
-      if (segment_distance(p, route[i], route[i + 1]) < clearance) return true;
+      if (point_segment_distance(p, route[i], route[i + 1]) < clearance) return true;
     return false;
   };
 
