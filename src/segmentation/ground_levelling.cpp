@@ -200,6 +200,10 @@ UpEstimate estimate_up(const PointCloud& cloud, const LevellingConfig& config) {
   return over;
 }
 
+Eigen::Matrix3d level_rotation(const UpEstimate& up) {
+  return Eigen::Quaterniond::FromTwoVectors(up.up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
+
 GroundResult ground_robust_levelled(const PointCloud& cloud, const SensorModel& sensor,
                                     const RobustGroundConfig& robust,
                                     const LevellingConfig& levelling) {
@@ -211,12 +215,8 @@ GroundResult ground_robust_levelled(const PointCloud& cloud, const SensorModel& 
     r.up_found = up.found;
     return r;
   }
-  // R_level_lidar takes the up direction onto z by the smallest rotation (the heading stays).
-  const Eigen::Matrix3f R = Eigen::Quaterniond::FromTwoVectors(up.up, Eigen::Vector3d::UnitZ())
-                                .toRotationMatrix()
-                                .cast<float>();
   PointCloud level = cloud;
-  rotate_points(level, R);
+  rotate_points(level, level_rotation(up).cast<float>());
   GroundResult r = ground_robust(level, sensor, robust);
   r.tilt_deg = up.tilt_deg;
   r.levelled = true;

@@ -1,7 +1,6 @@
 #include "support/sweep_levelling.hpp"
 
 #include <fmt/core.h>
-#include <Eigen/Geometry>
 
 #include "support/warnings.hpp"
 
@@ -25,8 +24,7 @@ Pose levelling_pose(const PointCloud& cloud, const segmentation::LevellingConfig
                     "or turned over: taken as level",
                     input, config.max_tilt_deg));
   if (!level) return T;
-  T.linear() =
-      Eigen::Quaterniond::FromTwoVectors(up.up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.linear() = segmentation::level_rotation(up);
   if (say)
     warn(
         fmt::format("{}: the sensor is tilted {:.1f} deg{}: the sweep is levelled to the "

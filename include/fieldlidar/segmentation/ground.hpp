@@ -237,6 +237,9 @@ struct UpEstimate {
 /// is found, the same with the sweep turned over: a sensor mounted upside down.
 UpEstimate estimate_up(const PointCloud& cloud, const LevellingConfig& config = {});
 
+/// The smallest rotation taking `up` onto z (the heading stays): lidar frame -> levelled frame.
+Eigen::Matrix3d level_rotation(const UpEstimate& up);
+
 /// The robust ground after levelling (LevellingConfig): what segment_ground runs for kRobust.
 GroundResult ground_robust_levelled(const PointCloud& cloud, const SensorModel& sensor,
                                     const RobustGroundConfig& robust,
