@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 
+#include "fieldlidar/core/segment_distance.hpp"
 #include "fieldlidar/people/assignment.hpp"
 
 namespace fieldlidar::people {
@@ -84,12 +85,8 @@ const Track* PersonTracker::reacquisition_candidate(double stamp_s) const {
       std::min(config_.reacquire_max_radius_m,
                config_.reacquire_radius_m + config_.reacquire_walk_speed_m_s * lost_s);
   // The lost track's straight-on path: where it was, to where it would be had it walked on.
-  const Eigen::Vector2d a = target_last_m_, ab = target_last_v_ * lost_s;
-  const auto off_path = [&](const Eigen::Vector2d& p) {
-    const double s =
-        ab.squaredNorm() > 1e-12 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
-    return (p - (a + s * ab)).norm();
-  };
+  const Eigen::Vector2d a = target_last_m_, b = a + target_last_v_ * lost_s;
+  const auto off_path = [&](const Eigen::Vector2d& p) { return point_segment_distance(p, a, b); };
   const Track* best = nullptr;
   for (const auto& c : tracks_) {
     if (!may_reacquire(c) || (c.position() - target_last_m_).norm() > radius) continue;
