@@ -8,8 +8,8 @@
 #include <string>
 #include <tuple>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "fieldlidar/core/rotate_points.hpp"
