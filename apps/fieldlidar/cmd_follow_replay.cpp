@@ -23,6 +23,7 @@
 #include "support/option_checks.hpp"
 #include "support/progress_line.hpp"
 #include "support/recorded_motion.hpp"
+#include "support/sweep_levelling.hpp"
 #include "support/warnings.hpp"
 
 namespace fieldlidar::app {
@@ -78,7 +79,7 @@ void run_follow_replay(const FollowOptions& o) {
   io::SourceOptions so;
   so.topic = o.topic;
   auto source = io::FrameSource::open(input, so);
-  const std::string mount_from = motion ? motion->mount_from : "none (the sensor is the base)";
+  std::string mount_from = motion ? motion->mount_from : "none (the sensor is the base)";
   LegsRunOptions lo;
   lo.input = o.replay;
   lo.config = o.legs_config;
@@ -93,9 +94,22 @@ void run_follow_replay(const FollowOptions& o) {
       "a folder of frames takes its clock from a KITTI-style times.txt in or beside it "
       "(`--rate HZ` stamps frames without one)");
   std::optional<double> first_stamp_s;
+  nlohmann::json levelling;
   while (auto frame = source->next()) {
     if (!replay) {
-      if (follow::is_planar_scan(frame->cloud)) cfg.legs_2d = legs.config_2d();
+      const bool planar = follow::is_planar_scan(frame->cloud);
+      if (planar) cfg.legs_2d = legs.config_2d();
+      // Without the recording's mount (--odom's /tf), a 3D sensor mounted tilted or upside down
+      // is levelled by the ground plane below its first sweep: the robot stands still, so the
+      // mount is one rotation for the whole replay.
+      if (!motion && !planar) {
+        cfg.T_base_sensor = levelling_pose(frame->cloud, {}, o.replay, &levelling);
+        if (levelling["levelled"].get<bool>())
+          mount_from =
+              fmt::format("levelled by the ground below the first sweep (tilted {:.1f} deg{})",
+                          levelling["tilt_deg"].get<double>(),
+                          levelling["upside_down"].get<bool>() ? ", upside down" : "");
+      }
       auto sensor = source->sensor();
       if (!sensor) sensor = SensorModel::preset(o.sensor);
       if (!sensor) throw Error("--sensor '" + o.sensor + "': unknown sensor preset");
@@ -128,6 +142,7 @@ void run_follow_replay(const FollowOptions& o) {
                        {"x_m", cfg.T_base_sensor.translation().x()},
                        {"y_m", cfg.T_base_sensor.translation().y()},
                        {"yaw_deg", yaw_of(cfg.T_base_sensor) * 180 / M_PI}};
+  if (!levelling.is_null()) j["sensor_mount"]["levelling"] = levelling;
   j["frames"] = s.frames;
   j["duration_s"] = s.duration_s;
   j["frame"] = motion ? "odometry frame of the recording, x-y in metres"

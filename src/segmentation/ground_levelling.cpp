@@ -201,7 +201,19 @@ UpEstimate estimate_up(const PointCloud& cloud, const LevellingConfig& config) {
 }
 
 Eigen::Matrix3d level_rotation(const UpEstimate& up) {
-  return Eigen::Quaterniond::FromTwoVectors(up.up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  // The levelled frame's axes in lidar coordinates are the rows: z the ground's up, x the lidar's
+  // own x laid level (its y when x points nearly up or down), y completing them. Unlike the
+  // smallest rotation, this keeps the heading of a sensor turned over: 180 deg from up, the
+  // smallest rotation's axis is any level one, set by the last degree of the estimate.
+  const Eigen::Vector3d z = up.up.normalized();
+  Eigen::Vector3d x = Eigen::Vector3d::UnitX() - z.x() * z;
+  if (x.norm() < 0.1) x = (Eigen::Vector3d::UnitY() - z.y() * z).cross(z);
+  x.normalize();
+  Eigen::Matrix3d R;
+  R.row(0) = x.transpose();
+  R.row(1) = z.cross(x).transpose();
+  R.row(2) = z.transpose();
+  return R;
 }
 
 GroundResult ground_robust_levelled(const PointCloud& cloud, const SensorModel& sensor,

@@ -135,5 +135,32 @@ TEST(UpsideDown, TurnedOverSensorIsLevelledAndASteepOneIsSaidSo) {
   EXPECT_FALSE(s.levelled);
 }
 
+TEST(LevelRotation, TakesUpOntoZAndKeepsTheHeading) {
+  // Rolled 180 deg, pitched 20 deg, and turned over with a degree of error: up goes onto z, the
+  // lidar's x axis stays ahead (a smallest rotation from nearly 180 deg turns the heading by
+  // whatever the error's direction is).
+  const auto rot = [](double deg, const Eigen::Vector3d& axis) {
+    return Eigen::AngleAxisd(deg * std::numbers::pi / 180.0, axis).toRotationMatrix();
+  };
+  for (const Eigen::Matrix3d& tilt :
+       {rot(180.0, Eigen::Vector3d::UnitX()), rot(20.0, Eigen::Vector3d::UnitY()),
+        Eigen::Matrix3d(rot(179.0, Eigen::Vector3d::UnitX()) * rot(0.7, Eigen::Vector3d::UnitY())),
+        Eigen::Matrix3d(rot(10.0, Eigen::Vector3d::UnitX()) * rot(-15.0, Eigen::Vector3d::UnitY())),
+        rot(90.0, Eigen::Vector3d::UnitY())}) {
+    UpEstimate up;
+    up.up = tilt.transpose() * Eigen::Vector3d::UnitZ();  // the world's up in the lidar frame
+    const Eigen::Matrix3d R = level_rotation(up);
+    EXPECT_NEAR((R * up.up - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(R.determinant(), 1.0, 1e-12);
+    EXPECT_NEAR((R * R.transpose() - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-12);
+    // The lidar's x axis (its y when x points up) laid level points along the levelled x.
+    const Eigen::Vector3d ahead =
+        std::abs(up.up.x()) < 0.99 ? R * Eigen::Vector3d::UnitX() : R * Eigen::Vector3d::UnitY();
+    const double heading = std::abs(up.up.x()) < 0.99 ? std::atan2(ahead.y(), ahead.x())
+                                                      : std::atan2(-ahead.x(), ahead.y());
+    EXPECT_NEAR(heading, 0.0, 1e-9);
+  }
+}
+
 }  // namespace
 }  // namespace fieldlidar::segmentation

@@ -237,7 +237,8 @@ struct UpEstimate {
 /// is found, the same with the sweep turned over: a sensor mounted upside down.
 UpEstimate estimate_up(const PointCloud& cloud, const LevellingConfig& config = {});
 
-/// The smallest rotation taking `up` onto z (the heading stays): lidar frame -> levelled frame.
+/// The rotation taking `up` onto z that keeps the lidar's heading (its x axis laid level stays
+/// the levelled x; for a pure pitch or roll the smallest rotation): lidar frame -> levelled frame.
 Eigen::Matrix3d level_rotation(const UpEstimate& up);
 
 /// The robust ground after levelling (LevellingConfig): what segment_ground runs for kRobust.
