@@ -46,6 +46,7 @@ def run_seed(seed, out, fieldlidar, extra):
         with open(os.path.join(run, "summary.json")) as f:
             info = json.load(f)
         row["blind_radius_m"], row["sensor"] = info["blind_radius_m"], info["sensor"]
+        row["mast_m"] = info.get("mast_m", 1.2)
         row["map"] = info.get("built_map_vs_truth", {})
     return rows
 
@@ -77,6 +78,7 @@ def summary(rows):
     tipped = [r for r in rows if float(r.get("max_tilt_deg") or 0) > 25.0]
     blind = max((r["blind_radius_m"] for r in rows), default=0.0)
     sensor = rows[0]["sensor"] if rows else "?"
+    mast = rows[0]["mast_m"] if rows else 1.2
     lines = [
         f"{len(rows)} pairs; {len(arrived)} of {len(reach)} goals the truth plan reaches arrived "
         f"(not: {' '.join(name(r) + '/' + r['outcome'] for r in reach if r['outcome'] != 'arrived')})",
@@ -92,7 +94,7 @@ def summary(rows):
                    f"@{r['first_touch_m']:.1f}" for r in touched),
         f"  (frames/deepest m@where first touched, m from the start) {len(near)} of them first "
         f"within {blind:.1f} m of their start, in the start's blind disk (a level {sensor} on "
-        f"the 1.2 m mast sees no ground nearer; the approach's sweeps see part of it)",
+        f"a {mast:g} m mast sees no ground nearer; the approach's sweeps see part of it)",
         f"  {len(contact)} of them with the footprint on an obstacle's disc itself (a rock, "
         f"bush or trunk; the rest on cells a disc reaches into, or on pits' and slopes' walls): "
         + (" ".join(f"{name(r)}:{r['frames_on_obstacles']}/{float(r['min_obstacle_gap_m']):.2f}"

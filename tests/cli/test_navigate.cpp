@@ -1,6 +1,7 @@
 // End-to-end: fieldlidar navigate on a short drive of the simulated terrain (seed 0): the files,
 // the summary's outcome and figures, and no output replaced without --force.
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -80,6 +81,20 @@ TEST(CliNavigate, ShortDriveWritesItsFilesAndKeepsThem) {
   const auto absurd = run_cli(args + " --force --cell 0.01");
   EXPECT_EQ(absurd.exit_code, 1);
   EXPECT_NE(absurd.output.find("--cell"), std::string::npos) << absurd.output;
+
+  // The LiDAR lower on the robot: its blind disk shrinks with the height (VLP-16, 15 deg).
+  EXPECT_EQ(j["mast_m"], 1.2);
+  EXPECT_NEAR(j["blind_radius_m"].get<double>(), 1.2 / std::tan(15.0 * M_PI / 180.0), 0.05);
+  const auto low = run_cli(args + " --force --mast 0.8");
+  ASSERT_EQ(low.exit_code, 0) << low.output;
+  const auto jl = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(jl["mast_m"], 0.8);
+  EXPECT_NEAR(jl["blind_radius_m"].get<double>(), 0.8 / std::tan(15.0 * M_PI / 180.0), 0.05);
+  EXPECT_EQ(jl["outcome"], "arrived");
+  EXPECT_EQ(jl["frames_on_impassable"], 0);
+  const auto tall = run_cli(args + " --force --mast 10");
+  EXPECT_EQ(tall.exit_code, 1);
+  EXPECT_NE(tall.output.find("--mast"), std::string::npos) << tall.output;
 }
 
 // --pose-source odometry: the robot maps and drives by its LiDAR odometry; the summary says so
