@@ -18,6 +18,7 @@
 
 #include "commands.hpp"
 #include "fieldlidar/core/error.hpp"
+#include "fieldlidar/core/rotate_points.hpp"
 #include "fieldlidar/follow/pipeline.hpp"
 #include "fieldlidar/follow/replay.hpp"
 #include "fieldlidar/io/file_util.hpp"
@@ -28,6 +29,7 @@
 #include "fieldlidar/people/leg_detector.hpp"
 #include "support/option_checks.hpp"
 #include "support/sensor_choice.hpp"
+#include "support/sweep_levelling.hpp"
 
 namespace fieldlidar::app {
 
@@ -95,6 +97,8 @@ void run(const People3dOptions& o) {
                                    ///< ///< person detections where annotations exist
   double ms_total = 0, ms_max = 0;
   std::optional<SensorModel> sensor;
+  bool level_warned = false;
+  std::size_t levelled_frames = 0;
   while (auto frame = source->next()) {
     if (o.max_frames && frames >= o.max_frames) break;
     PointCloud& cloud = frame->cloud;
@@ -103,11 +107,20 @@ void run(const People3dOptions& o) {
       sensor = source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
     // Leg arcs are found ring by ring: a cloud without a ring field (KITTI) gets estimated ones.
     follow::ensure_rings(cloud, *sensor);
+    // A sweep tilted past the levelling's tolerance or turned over is levelled by its ground
+    // plane first, as `legs` and the follow pipeline do; the annotations (in the sensor's frame)
+    // are brought into the levelled one.
+    const Pose T_level = levelling_pose(cloud, {}, o.input, nullptr, &level_warned);
+    const Pose T_sensor_level = T_level.inverse();
+    if (!T_level.linear().isIdentity(1e-12)) {
+      rotate_points(cloud, T_level.linear().cast<float>());
+      ++levelled_frames;
+    }
     // The detector, as the follow pipeline runs it (perceive() without the world transform).
     const auto t0 = std::chrono::steady_clock::now();
     double h = 0;
     const auto clusters = follow::leg_band_clusters(cloud, *sensor, cfg, &h);
-    const auto det = follow::detect_people_3d(cloud, clusters, *sensor, h, cfg);
+    const auto det = follow::detect_people_3d(cloud, clusters, *sensor, h, cfg, T_level.linear());
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     ms_total += ms, ms_max = std::max(ms_max, ms);
@@ -125,11 +138,12 @@ void run(const People3dOptions& o) {
           boxes.push_back(&ob);
           Annotated a;
           a.frame = frame->index, a.id = ob.track_id, a.type = ob.type;
-          a.center_m = T_velo_rect * ob.center_rect_m();
+          a.center_m = T_level * (T_velo_rect * ob.center_rect_m());
           here.push_back(a);
         }
       for (const auto& p : cloud.points) {
-        const Eigen::Vector3d q = calib.T_rect_velo * Eigen::Vector3d(p.x, p.y, p.z);
+        const Eigen::Vector3d q =
+            calib.T_rect_velo * (T_sensor_level * Eigen::Vector3d(p.x, p.y, p.z));
         for (std::size_t k = 0; k < boxes.size(); ++k)
           if (boxes[k]->contains(q)) {
             ++here[k].points;
@@ -169,7 +183,8 @@ void run(const People3dOptions& o) {
       false_anywhere += !near_any;
       if (kitti) {
         const Eigen::Vector3d q =
-            calib.T_rect_velo * Eigen::Vector3d(p.position_m.x(), p.position_m.y(), 0);
+            calib.T_rect_velo *
+            (T_sensor_level * Eigen::Vector3d(p.position_m.x(), p.position_m.y(), 0));
         if (!(q.z() > 0 && std::abs(q.x()) <= o.camera_half_width * q.z())) continue;
       }
       ++scored_detections;
@@ -217,6 +232,7 @@ void run(const People3dOptions& o) {
   j["input"] = o.input;
   j["sensor"] = sensor->name;
   j["frames"] = frames;
+  j["levelled_frames"] = levelled_frames;
   j["min_points"] = o.min_points;
   j["gate_m"] = o.gate_m;
   j["legs_per_frame"] = double(legs_total) / double(frames);

@@ -10,8 +10,11 @@
 #include <sstream>
 #include <string>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "fieldlidar/core/rotate_points.hpp"
+#include "fieldlidar/io/cloud_file.hpp"
 #include "run_cli.hpp"
 #include "test_data.hpp"
 
@@ -57,6 +60,58 @@ TEST(CliEvalPeople3d, KittiPedestrianAndCyclistFound) {
     EXPECT_GE(p["points"].get<int>(), 300);
     EXPECT_LT(p["nearest_person_m"].get<double>(), 0.3);
   }
+}
+
+// The first 10 KITTI sweeps rotated as if the sensor were pitched 20 deg, with the calibration's
+// lidar-to-camera transform rotated alike (the boxes stay on the people): each sweep is levelled
+// by its ground plane and the annotations brought into the levelled frame. Measured on all 50
+// sweeps: the pedestrian 6 of 6 and the cyclist 49 of 50 found (none of either before the
+// levelling; level 6 and 50), and the same turned over. A rotated level sweep is no tilted
+// sensor's (its beams still cross the bodies where the level sensor's did, where the body check
+// looks for a tilted sensor's): 0.62 false persons per frame in the camera's view, not scored
+// here (the tilted mounts' own beams: TiltedMountPeople).
+TEST(CliEvalPeople3d, PitchedSweepsAreLevelledAndTheirPeopleFound) {
+  const char* kitti = "kitti_tracking0000/velodyne";
+  FIELDLIDAR_REQUIRE_DATA(kitti);
+  const auto dir = test::temp_dir("cli_eval_people3d_pitched");
+  const std::filesystem::path d = test::data_file("kitti_tracking0000");
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(20.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  std::filesystem::create_directories(dir / "velodyne");
+  for (int i = 0; i < 10; ++i) {
+    const std::string name = "000000000" + std::to_string(i) + ".pcd";
+    PointCloud c = io::read_cloud(d / "velodyne" / name);
+    rotate_points(c, R.cast<float>());
+    io::write_cloud(dir / "velodyne" / name, c);
+  }
+  // Tr_velo_to_cam takes the rotated sweep's points back first: Tr * R^T.
+  std::ifstream in(d / "calib.txt");
+  std::ofstream calib(dir / "calib.txt");
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("Tr_velo_to_cam:", 0) == 0) {
+      std::istringstream ss(line.substr(15));
+      Eigen::Matrix<double, 3, 4> T;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) ss >> T(r, c);
+      T.leftCols<3>() = T.leftCols<3>() * R.transpose();
+      line = "Tr_velo_to_cam:";
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) line += " " + std::to_string(T(r, c));
+    }
+    calib << line << "\n";
+  }
+  calib.close();
+  const auto r =
+      test::run_cli("eval-people3d " + test::quoted(dir / "velodyne") + " --kitti-labels " +
+                    test::quoted(d / "label_02_0000_frames0-49.txt") + " --calib " +
+                    test::quoted(dir / "calib.txt") + " --sensor hdl64e --out " +
+                    test::quoted(dir / "pitched.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("is tilted"), std::string::npos) << r.output;
+  const auto j = read_json(dir / "pitched.json");
+  EXPECT_EQ(j["levelled_frames"].get<int>(), 10);
+  EXPECT_EQ(j["by_type"]["Pedestrian"]["found"].get<int>(), 6);
+  EXPECT_GE(j["by_type"]["Cyclist"]["found"].get<int>(), 9);
 }
 
 TEST(CliEvalPeople3d, RellisPersonFound) {
