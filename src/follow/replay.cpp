@@ -10,9 +10,10 @@
 namespace fieldlidar::follow {
 
 Perception perceive_2d(people::LegPipeline2D& legs, double stamp_s, const PointCloud& scan,
-                       const Pose2& sensor_pose, bool pose_known) {
-  const Eigen::Isometry2d T_2d = isometry_2d(sensor_pose);
-  const auto points = people::scan_points_2d(scan);
+                       const Pose& T_fixed_sensor, bool pose_known) {
+  const Eigen::Isometry2d T_2d = isometry_2d(planar(T_fixed_sensor));
+  // A laser mounted upside down: its scan mirrored back (its heading is its x axis either way).
+  const auto points = people::scan_points_2d(scan, T_fixed_sensor.linear()(2, 2) < 0);
   const auto det = pose_known ? legs.process(stamp_s, points, T_2d) : legs.process(stamp_s, points);
   Perception perception;
   for (const auto& l : det.legs) perception.legs_m.push_back(T_2d * l.position_m);
@@ -70,7 +71,7 @@ ReplayFrame FollowReplay::step(PointCloud cloud, double stamp_s,
   Perception perception;
   if (is_planar_scan(cloud)) {
     // A 2D scan: the leg pipeline tracks legs and persons in the odometry frame.
-    perception = perceive_2d(legs_2d_, stamp_s, cloud, planar(T), T_odom_base.has_value());
+    perception = perceive_2d(legs_2d_, stamp_s, cloud, T, T_odom_base.has_value());
   } else {
     ensure_rings(cloud, sensor_);
     perception = perceive(cloud, sensor_, T, config_.follow);

@@ -173,8 +173,8 @@ ClosedLoopResult run_closed_loop(const sim::Scene& scene, const SensorModel& sen
     follow::FrameOutput out;
     if (planar_laser) {
       // The 2D leg pipeline: legs, leg tracks and persons in the recording frame.
-      out = pipeline.follow(follow::perceive_2d(*legs_2d, t0, cloud, planar(T0_used), true),
-                            mower_used, t0 + period / 2, period);
+      out = pipeline.follow(follow::perceive_2d(*legs_2d, t0, cloud, T0_used, true), mower_used,
+                            t0 + period / 2, period);
     } else {
       out = pipeline.step(cloud, T0_used, mower_used, t0 + period / 2, period);
     }

@@ -173,11 +173,12 @@ bool in_foreground(std::span<const Eigen::Vector2d> pts, std::size_t begin, std:
   return true;
 }
 
-std::vector<Eigen::Vector2d> scan_points_2d(const PointCloud& scan) {
+std::vector<Eigen::Vector2d> scan_points_2d(const PointCloud& scan, bool upside_down) {
   std::vector<Eigen::Vector2d> pts;
   pts.reserve(scan.size());
   for (const auto& p : scan.points)
-    if (p.is_valid()) pts.emplace_back(p.x, p.y);
+    if (p.is_valid()) pts.emplace_back(p.x, upside_down ? -p.y : p.y);
+  if (upside_down) std::reverse(pts.begin(), pts.end());
   return pts;
 }
 

@@ -99,9 +99,12 @@ FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSourc
     // A 2D scan is one ring: points in beam order. Persons are the pipeline's tracked people.
     if (!missing_config_.empty()) throw Error(missing_config_);
     ++scans_2d_;
+    // Placed by a pose, a laser mounted upside down has its scan mirrored back (its heading is
+    // its x axis either way).
     std::optional<Eigen::Isometry2d> pose;
     if (T_fixed_sensor) pose = isometry_2d(planar(*T_fixed_sensor));
-    auto det = pipeline_->process(frame.stamp_s, people::scan_points_2d(frame.cloud), pose);
+    const bool over = T_fixed_sensor && T_fixed_sensor->linear()(2, 2) < 0;
+    auto det = pipeline_->process(frame.stamp_s, people::scan_points_2d(frame.cloud, over), pose);
     resampled_ += det.resampled;
     out.segments = std::move(det.segments);
     for (const auto& l : det.legs) out.legs.push_back(l.position_m);

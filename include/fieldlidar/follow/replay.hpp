@@ -29,14 +29,15 @@ bool is_planar_scan(const PointCloud& cloud);
 void ensure_rings(PointCloud& cloud, const SensorModel& sensor);
 
 /// Persons of a 2D laser scan (one ring, sensor frame) through the leg pipeline, placed in the
-/// world (odometry) frame by the sensor's planar pose `sensor_pose`. With `pose_known` the
+/// world (odometry) frame by the sensor's pose `T_fixed_sensor` (its planar part; a laser whose
+/// z axis points down is mounted upside down, its scan mirrored back). With `pose_known` the
 /// pipeline is given that pose; without, it estimates its own ego-motion by scan matching (a
 /// robot taken as still that is not, or a shaking mount, would otherwise smear static returns
 /// into leg tracks) and the persons are placed from the sensor frame. Only the persons a leg
 /// updated in this scan are kept: the controller stops on a target it did not see (a coasted
 /// report is not driven on).
 Perception perceive_2d(people::LegPipeline2D& legs, double stamp_s, const PointCloud& scan,
-                       const Pose2& sensor_pose, bool pose_known);
+                       const Pose& T_fixed_sensor, bool pose_known);
 
 /// The follow state a replay counts for a frame: before any target was chosen the controller's
 /// "lost" (no target) is idle.

@@ -150,8 +150,11 @@ struct LegDetection {
 bool in_foreground(std::span<const Eigen::Vector2d> ordered_points, std::size_t begin,
                    std::size_t end, double margin_m);
 
-/// The valid returns of a 2D scan (one ring, in beam order) as points in its plane (m).
-std::vector<Eigen::Vector2d> scan_points_2d(const PointCloud& scan);
+/// The valid returns of a 2D scan (one ring, in beam order) as points in its plane (m). A laser
+/// mounted upside down (`upside_down`: its z axis points down) sweeps clockwise seen from above
+/// with its y axis to the right: its points come mirrored (y negated) and in reverse order, as
+/// the same laser upright would give them, in the frame of its x axis and the world's up.
+std::vector<Eigen::Vector2d> scan_points_2d(const PointCloud& scan, bool upside_down = false);
 
 /// The finite points of `ordered_points` with a range within [config.range_min_m,
 /// config.range_max_m], in their order.
