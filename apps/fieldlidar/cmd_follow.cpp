@@ -297,6 +297,14 @@ void add_follow_command(CLI::App& app) {
                   "a TUM pose file of the sensor (e.g. a simulate folder's poses_tum.txt) "
                   "(default: the robot stands still)")
       ->needs(replay);
+  cmd->add_option("--mount", o->mount,
+                  "With --replay: the sensor's mount on the base X,Y,Z,ROLL,PITCH,YAW (m, deg; "
+                  "e.g. 0.2,0,0.3,180,0,0 for a laser hung upside down), for a recording without "
+                  "one (default: the bag's /tf with --odom; else a 3D sweep levelled by its "
+                  "ground, a 2D laser taken as upright)")
+      ->expected(6)
+      ->delimiter(',')
+      ->needs(replay);
   cmd->add_option("--rate", o->rate_hz,
                   "With --replay: stamp the frames at this rate (Hz) from the first one's stamp, "
                   "for frames without a clock (a folder of frames with no times.txt in or beside "

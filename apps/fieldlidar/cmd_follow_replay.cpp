@@ -2,6 +2,7 @@
 // target choice, safety rule and controller run as on the mower; the robot's motion is the
 // recording's (its odometry topic, or standing still), so the wheel commands are logged only.
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -80,6 +81,15 @@ void run_follow_replay(const FollowOptions& o) {
   so.topic = o.topic;
   auto source = io::FrameSource::open(input, so);
   std::string mount_from = motion ? motion->mount_from : "none (the sensor is the base)";
+  if (!o.mount.empty()) {
+    const auto& m = o.mount;
+    require(std::all_of(m.begin(), m.end(), [](double v) { return std::isfinite(v); }) &&
+                std::abs(m[0]) <= 100 && std::abs(m[1]) <= 100 && std::abs(m[2]) <= 100,
+            "--mount", "X,Y,Z must be finite metres within 100 m of the base, angles finite");
+    constexpr double kDeg = M_PI / 180.0;
+    cfg.T_base_sensor = make_pose(m[0], m[1], m[2], m[3] * kDeg, m[4] * kDeg, m[5] * kDeg);
+    mount_from = "--mount" + (motion ? " (in place of " + mount_from + ")" : std::string());
+  }
   LegsRunOptions lo;
   lo.input = o.replay;
   lo.config = o.legs_config;
@@ -102,7 +112,7 @@ void run_follow_replay(const FollowOptions& o) {
       // Without the recording's mount (--odom's /tf), a 3D sensor mounted tilted or upside down
       // is levelled by the ground plane below its first sweep: the robot stands still, so the
       // mount is one rotation for the whole replay.
-      if (!motion && !planar) {
+      if (!motion && !planar && o.mount.empty()) {
         cfg.T_base_sensor = levelling_pose(frame->cloud, {}, o.replay, &levelling);
         if (levelling["levelled"].get<bool>())
           mount_from =

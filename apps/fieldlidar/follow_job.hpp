@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace fieldlidar::app {
 
@@ -25,6 +26,9 @@ struct FollowOptions {
   std::string odom_topic;   ///< nav_msgs/Odometry topic: the robot's motion ("" = standing still)
   std::string legs_config;  ///< 2D leg detector YAML ("" = the shipped legs_2d.yaml)
   double rate_hz = 0;       ///< > 0: frames stamped at this rate from the first one's stamp
+  /// The sensor's mount on the base, x y z (m) roll pitch yaw (deg); empty: the recording's /tf
+  /// with --odom, else level by the first 3D sweep's ground (a 2D laser: as it stands).
+  std::vector<double> mount;
 };
 
 /// Runs the follow pipeline on the recording `o.replay` and writes follow_log.csv, summary.json

@@ -1,6 +1,6 @@
-// A 2D laser mounted upside down, placed by its poses (`--odom`): its scans come mirrored and
-// clockwise, and `follow --replay` and `legs` mirror them back, so the operator is followed and
-// the people found as with the laser upright.
+// A 2D laser mounted upside down, placed by its poses (`--odom`) or by its mount (`--mount`):
+// its scans come mirrored and clockwise, and `follow --replay` and `legs` mirror them back, so
+// the operator is followed and the people found as with the laser upright.
 
 #include <algorithm>
 #include <filesystem>
@@ -111,6 +111,32 @@ TEST(CliUpsideDownLaser, ScansMirroredBackAndTheOperatorFollowedAsUpright) {
   }
   EXPECT_GE(persons[0], 250u);
   EXPECT_EQ(persons[1], persons[0]);
+
+  // No poses, the mount given instead (`--mount`, roll 180 deg): the robot taken as standing,
+  // its motion matched from the scans, and the target where the upright laser puts it.
+  std::vector<std::vector<std::vector<std::string>>> still;
+  for (const auto& [in, mount] :
+       {std::pair{sim, std::string()}, {over, " --mount 0,0,0,180,0,0"}}) {
+    const fs::path out = dir / (in.filename().string() + "_still");
+    r = test::run_cli("follow --replay " + test::quoted(in) + mount + " --out " +
+                      test::quoted(out));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    still.push_back(csv_rows(out / "follow_log.csv"));
+  }
+  ASSERT_EQ(still[0].size(), still[1].size());
+  int held = 0;
+  for (std::size_t i = 0; i < still[0].size(); ++i) {
+    EXPECT_EQ(still[0][i][4] == "nan", still[1][i][4] == "nan") << "scan " << i;
+    if (still[0][i][4] == "nan" || still[1][i][4] == "nan") continue;
+    ++held;
+    EXPECT_NEAR(std::stod(still[0][i][4]), std::stod(still[1][i][4]), 1e-3) << "scan " << i;
+    EXPECT_NEAR(std::stod(still[0][i][5]), std::stod(still[1][i][5]), 1e-3) << "scan " << i;
+  }
+  EXPECT_GE(held, 200);
+  const auto bad = test::run_cli("follow --replay " + test::quoted(over) +
+                                 " --mount 0,0,nan,180,0,0 --out " + test::quoted(dir / "bad"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("--mount"), std::string::npos) << bad.output;
 }
 
 }  // namespace
