@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "csv_text.hpp"
 #include "run_cli.hpp"
 #include "test_data.hpp"
 
@@ -189,21 +190,6 @@ TEST(CliFollowReplay, SimulatedLawnSweepsWithTheirPoses) {
   EXPECT_GT(m["path_length_m"].get<double>(), 3.0);
 }
 
-/// Rows of a CSV file with a header, each as its fields.
-std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::vector<std::vector<std::string>> rows;
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
-    rows.push_back(std::move(f));
-  }
-  return rows;
-}
-
 // The 2D path on a simulated lawn with three people strolling at random and one crossing ahead
 // of the operator (scene seed 1: a stroller passes 0.5 m from the operator at scan 272), the
 // scripted mower 2.5 m behind the operator: the target is the operator in every scan it is held.
@@ -216,10 +202,11 @@ TEST(CliFollowReplay, SimulatedLawnWithStrollersTheTargetStaysTheOperator) {
   ASSERT_TRUE(simulate_and_replay(
       dir, "--scene lawn --sensor laser2d --frames 400 --seed 1 --extra-walkers 3 --crossing"));
   std::map<int, Eigen::Vector2d> operator_at;  // people.csv: frame, stamp, id, x, y, ...
-  for (const auto& f : csv_rows(sim / "people.csv"))
+  for (const auto& f : test::csv_text_rows(sim / "people.csv"))
     if (f.size() > 4 && f[2] == "1")
       operator_at[std::stoi(f[0])] = {std::stod(f[3]), std::stod(f[4])};
-  const auto log = csv_rows(out / "follow_log.csv");  // t, mower x y yaw, est_x, est_y, ...
+  const auto log =
+      test::csv_text_rows(out / "follow_log.csv");  // t, mower x y yaw, est_x, est_y, ...
   ASSERT_EQ(log.size(), 400u);
   int held = 0, off = 0;
   for (std::size_t i = 0; i < log.size(); ++i) {

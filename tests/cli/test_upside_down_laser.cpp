@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "csv_text.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/trajectory_io.hpp"
 #include "run_cli.hpp"
@@ -22,21 +23,6 @@ namespace fieldlidar {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// Rows of a CSV file after its header, each as its fields.
-std::vector<std::vector<std::string>> csv_rows(const fs::path& p) {
-  std::ifstream in(p);
-  std::vector<std::vector<std::string>> rows;
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
-    rows.push_back(std::move(f));
-  }
-  return rows;
-}
 
 /// The simulator's 2D scans of `sim` as the same laser turned over about its x axis records
 /// them (y negated, the beams in reverse order), with its poses turned over alike, into `over`.
@@ -75,7 +61,7 @@ TEST(CliUpsideDownLaser, ScansMirroredBackAndTheOperatorFollowedAsUpright) {
     r = test::run_cli("follow --replay " + test::quoted(in) + " --odom " +
                       test::quoted(in / "poses_tum.txt") + " --out " + test::quoted(out));
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    logs.push_back(csv_rows(out / "follow_log.csv"));
+    logs.push_back(test::csv_text_rows(out / "follow_log.csv"));
     std::ifstream s(out / "summary.json");
     summaries.push_back(nlohmann::json::parse(s));
   }
@@ -106,7 +92,7 @@ TEST(CliUpsideDownLaser, ScansMirroredBackAndTheOperatorFollowedAsUpright) {
                       " --out " + test::quoted(csv));
     ASSERT_EQ(r.exit_code, 0) << r.output;
     std::size_t n = 0;
-    for (const auto& f : csv_rows(csv)) n += f.size() > 1 && f[1] == "person";
+    for (const auto& f : test::csv_text_rows(csv)) n += f.size() > 1 && f[1] == "person";
     persons.push_back(n);
   }
   EXPECT_GE(persons[0], 250u);
@@ -121,7 +107,7 @@ TEST(CliUpsideDownLaser, ScansMirroredBackAndTheOperatorFollowedAsUpright) {
     r = test::run_cli("follow --replay " + test::quoted(in) + mount + " --out " +
                       test::quoted(out));
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    still.push_back(csv_rows(out / "follow_log.csv"));
+    still.push_back(test::csv_text_rows(out / "follow_log.csv"));
   }
   ASSERT_EQ(still[0].size(), still[1].size());
   int held = 0;
