@@ -85,9 +85,14 @@ void run_sequence(const TrunksOptions& o, const Truth& truth) {
   Pose odo_prev = Pose::Identity();
   std::size_t tracked = 0, points = 0;
   ProgressLine progress;
+  // A sensor mounted tilted or upside down: every scan is laid level by the rotation that levels
+  // the first (the mount's; said once), so the trunks stand upright in the map and its poses.
+  std::optional<Pose> T_level;
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
     points += cloud.valid_count();
+    if (!T_level) T_level = levelling_pose(cloud, {}, o.input);
+    if (!T_level->linear().isIdentity(1e-12)) rotate_points(cloud, T_level->linear().cast<float>());
     if (const auto why = segmentation::implausible_span(cloud))
       throw Error(fmt::format("{}: frame {}: {}", o.input, frame->index, *why));
     if (!cloud.fields.ring)
@@ -143,7 +148,8 @@ void run_sequence(const TrunksOptions& o, const Truth& truth) {
       warn(
           "--truth: no simulator poses.txt next to the frames; the truth is taken in the frame "
           "of the first scan");
-    print_trunk_scores(trees, moved(*truth, T_world_first.inverse()), path);
+    print_trunk_scores(
+        trees, moved(*truth, T_level.value_or(Pose::Identity()) * T_world_first.inverse()), path);
   }
 }
 

@@ -1,7 +1,9 @@
 // End-to-end: fieldlidar trunks on a real pine plot (terrestrial scan, no rings).
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -14,6 +16,7 @@
 
 #include "fieldlidar/core/rotate_points.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
+#include "fieldlidar/io/trajectory_io.hpp"
 #include "run_cli.hpp"
 #include "test_data.hpp"
 
@@ -110,6 +113,59 @@ TEST(CliTrunks, SimulatedDriveTracksPosesAndMapsTrunks) {
   r = run_cli("trunks " + quoted(dir / "sim" / "velodyne") + " --out " + quoted(dir / "bin"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("frame 0 has no ring field"), std::string::npos) << r.output;
+}
+
+/// The "truth: ..." line's DBH RMSE, position RMSE and recall (NaN when absent).
+std::array<double, 3> truth_figures(const std::string& output) {
+  std::array<double, 3> f{NAN, NAN, NAN};
+  const auto at = output.find("truth: ");
+  if (at == std::string::npos) return f;
+  const std::string line = output.substr(at, output.find('\n', at) - at);
+  const auto number_after = [&](const std::string& key) {
+    const auto k = line.find(key);
+    return k == std::string::npos ? NAN : std::atof(line.c_str() + k + key.size());
+  };
+  return {number_after("DBH RMSE "), number_after("position RMSE "), number_after("recall ")};
+}
+
+// A drive through the forest whose VLP-16 is mounted pitched 15 deg (the sweeps rotated, the
+// simulator's poses turned alike): every scan is laid level by the rotation that levels the
+// first, and the trunk map is scored as the level drive's. Measured (20 scans): DBH RMSE 5.7 mm,
+// position RMSE 14.7 mm, recall 1 (level 4.7 mm, 11.5 mm, 1); before the levelling 24.0 mm and
+// 41.6 mm (trunks cut at a slant, the map tilted; on 40 scans recall 0.667 too).
+TEST(CliTrunks, TiltedMountSequenceIsLevelledByItsFirstScan) {
+  const auto dir = temp_dir("cli_trunks_tilted_drive");
+  auto r = run_cli("simulate --scene forest --frames 20 --out " + quoted(dir / "sim"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto tilted = dir / "tilted";
+  std::filesystem::create_directories(tilted / "pcd");
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(15.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  for (const auto& e : std::filesystem::directory_iterator(dir / "sim" / "pcd")) {
+    PointCloud c = io::read_cloud(e.path());
+    rotate_points(c, R.cast<float>());
+    io::write_cloud(tilted / "pcd" / e.path().filename(), c);
+  }
+  std::filesystem::copy_file(dir / "sim" / "times.txt", tilted / "times.txt");
+  Trajectory turned;
+  for (const auto& s : io::read_kitti_poses(dir / "sim" / "poses.txt")) {
+    Pose T = s.pose;
+    T.linear() = T.linear() * R.transpose();
+    turned.push_back(s.stamp_s, T);
+  }
+  io::write_kitti_poses(tilted / "poses.txt", turned);
+  const std::string truth = " --truth " + quoted(dir / "sim" / "trees.csv");
+  r = run_cli("trunks " + quoted(dir / "sim") + " --out " + quoted(dir / "level_map") + truth);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto level = truth_figures(r.output);
+  r = run_cli("trunks " + quoted(tilted) + " --out " + quoted(dir / "tilted_map") + truth);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("is tilted"), std::string::npos) << r.output;
+  const auto pitched = truth_figures(r.output);
+  EXPECT_LE(level[0], 0.01) << r.output;
+  EXPECT_LE(pitched[0], 0.012) << r.output;
+  EXPECT_LE(pitched[1], 0.025) << r.output;
+  EXPECT_GE(pitched[2], level[2]) << r.output;
 }
 
 }  // namespace
