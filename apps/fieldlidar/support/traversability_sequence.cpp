@@ -15,6 +15,7 @@
 #include "fieldlidar/terrain/terrain_map.hpp"
 #include "support/progress_line.hpp"
 #include "support/sensor_choice.hpp"
+#include "support/sweep_levelling.hpp"
 #include "support/warnings.hpp"
 
 namespace fieldlidar::app {
@@ -44,12 +45,13 @@ SequenceResult map_sequence(const SequenceOptions& o, const terrain::Traversabil
   bool by_index = true;
   Trajectory poses;
   if (!o.poses.empty()) poses = read_poses(o.poses, by_index);
-  r.placed_by = o.poses.empty() ? "lidar odometry (first scan's frame)" : o.poses;
+  r.placed_by = o.poses.empty() ? "lidar odometry (first scan's frame, laid level)" : o.poses;
   terrain::FusionConfig fusion;
   fusion.layers = cfg;
   terrain::TerrainMap map(fusion);
   auto source = io::FrameSource::open(o.input);
   std::unique_ptr<odometry::LidarOdometry> odo;
+  std::optional<Pose> T_level;  // placed by the odometry: its first scan's frame laid level
   std::optional<SensorModel> sensor;
   double last_stamp = -1e300;
   struct Placed {
@@ -94,7 +96,10 @@ SequenceResult map_sequence(const SequenceOptions& o, const terrain::Traversabil
         ocfg.expected_period_s = sensor->sweep_period_s();
         odo = std::make_unique<odometry::LidarOdometry>(*sensor, ocfg);
       }
-      T = odo->register_frame(cloud).T_world_lidar;
+      // A sensor mounted tilted or upside down: the map is laid level by the rotation that
+      // levels the first scan (said once), not in its tilted frame.
+      if (!T_level) T_level = levelling_pose(cloud, cfg.ground.levelling, o.input);
+      T = *T_level * odo->register_frame(cloud).T_world_lidar;
     }
     if (!T) {  // a TUM trajectory that does not cover this frame's stamp
       ++r.skipped;
