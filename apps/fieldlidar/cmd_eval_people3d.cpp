@@ -111,11 +111,10 @@ void run(const People3dOptions& o) {
     // plane first, as `legs` and the follow pipeline do; the annotations (in the sensor's frame)
     // are brought into the levelled one.
     const Pose T_level = levelling_pose(cloud, {}, o.input, nullptr, &level_warned);
-    const Pose T_sensor_level = T_level.inverse();
-    if (!T_level.linear().isIdentity(1e-12)) {
-      rotate_points(cloud, T_level.linear().cast<float>());
-      ++levelled_frames;
-    }
+    levelled_frames += T_level.linear() != Eigen::Matrix3d::Identity();
+    rotate_points(cloud, T_level.linear().cast<float>());
+    // Levelled frame -> the boxes' rectified camera frame, once per sweep.
+    const Pose T_rect_level = calib.T_rect_velo * T_level.inverse();
     // The detector, as the follow pipeline runs it (perceive() without the world transform).
     const auto t0 = std::chrono::steady_clock::now();
     double h = 0;
@@ -142,8 +141,7 @@ void run(const People3dOptions& o) {
           here.push_back(a);
         }
       for (const auto& p : cloud.points) {
-        const Eigen::Vector3d q =
-            calib.T_rect_velo * (T_sensor_level * Eigen::Vector3d(p.x, p.y, p.z));
+        const Eigen::Vector3d q = T_rect_level * Eigen::Vector3d(p.x, p.y, p.z);
         for (std::size_t k = 0; k < boxes.size(); ++k)
           if (boxes[k]->contains(q)) {
             ++here[k].points;
@@ -183,8 +181,7 @@ void run(const People3dOptions& o) {
       false_anywhere += !near_any;
       if (kitti) {
         const Eigen::Vector3d q =
-            calib.T_rect_velo *
-            (T_sensor_level * Eigen::Vector3d(p.position_m.x(), p.position_m.y(), 0));
+            T_rect_level * Eigen::Vector3d(p.position_m.x(), p.position_m.y(), 0);
         if (!(q.z() > 0 && std::abs(q.x()) <= o.camera_half_width * q.z())) continue;
       }
       ++scored_detections;

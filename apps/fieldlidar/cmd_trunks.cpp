@@ -91,8 +91,6 @@ void run_sequence(const TrunksOptions& o, const Truth& truth) {
   while (auto frame = source->next()) {
     PointCloud& cloud = frame->cloud;
     points += cloud.valid_count();
-    if (!T_level) T_level = levelling_pose(cloud, {}, o.input);
-    if (!T_level->linear().isIdentity(1e-12)) rotate_points(cloud, T_level->linear().cast<float>());
     if (const auto why = segmentation::implausible_span(cloud))
       throw Error(fmt::format("{}: frame {}: {}", o.input, frame->index, *why));
     if (!cloud.fields.ring)
@@ -100,6 +98,8 @@ void run_sequence(const TrunksOptions& o, const Truth& truth) {
           fmt::format("{}: frame {} has no ring field; tracking needs the scan lines of a "
                       "spinning sensor",
                       o.input, frame->index));
+    if (!T_level) T_level = levelling_pose(cloud, {}, o.input);
+    rotate_points(cloud, T_level->linear().cast<float>());
     if (!sensor) {
       sensor = source->sensor() ? *source->sensor() : sensor_for(cloud, o.input, o.sensor);
       forest::TrackerConfig cfg;

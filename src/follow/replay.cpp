@@ -13,7 +13,7 @@ Perception perceive_2d(people::LegPipeline2D& legs, double stamp_s, const PointC
                        const Pose& T_fixed_sensor, bool pose_known) {
   const Eigen::Isometry2d T_2d = isometry_2d(planar(T_fixed_sensor));
   // A laser mounted upside down: its scan mirrored back (its heading is its x axis either way).
-  const auto points = people::scan_points_2d(scan, T_fixed_sensor.linear()(2, 2) < 0);
+  const auto points = people::scan_points_2d(scan, people::upside_down(T_fixed_sensor));
   const auto det = pose_known ? legs.process(stamp_s, points, T_2d) : legs.process(stamp_s, points);
   Perception perception;
   for (const auto& l : det.legs) perception.legs_m.push_back(T_2d * l.position_m);

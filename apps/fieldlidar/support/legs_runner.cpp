@@ -103,7 +103,7 @@ FrameLegsPeople LegsRunner::process(const io::Frame& frame, const io::FrameSourc
     // its x axis either way).
     std::optional<Eigen::Isometry2d> pose;
     if (T_fixed_sensor) pose = isometry_2d(planar(*T_fixed_sensor));
-    const bool over = T_fixed_sensor && T_fixed_sensor->linear()(2, 2) < 0;
+    const bool over = T_fixed_sensor && people::upside_down(*T_fixed_sensor);
     auto det = pipeline_->process(frame.stamp_s, people::scan_points_2d(frame.cloud, over), pose);
     resampled_ += det.resampled;
     out.segments = std::move(det.segments);

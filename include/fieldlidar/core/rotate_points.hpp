@@ -8,7 +8,8 @@
 
 namespace fieldlidar {
 
-/// p <- R p for every valid point of `cloud`.
+/// p <- R p for every valid point of `cloud` (nothing to do for the exact identity, the rotation
+/// a sweep found level is given).
 void rotate_points(PointCloud& cloud, const Eigen::Matrix3f& R);
 
 }  // namespace fieldlidar

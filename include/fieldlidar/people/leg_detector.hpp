@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 
 #include "fieldlidar/core/point_cloud.hpp"
+#include "fieldlidar/core/pose.hpp"
 #include "fieldlidar/people/leg_classifier.hpp"
 #include "fieldlidar/people/static_background.hpp"
 
@@ -155,6 +156,12 @@ bool in_foreground(std::span<const Eigen::Vector2d> ordered_points, std::size_t 
 /// with its y axis to the right: its points come mirrored (y negated) and in reverse order, as
 /// the same laser upright would give them, in the frame of its x axis and the world's up.
 std::vector<Eigen::Vector2d> scan_points_2d(const PointCloud& scan, bool upside_down = false);
+
+/// A 2D laser at `T_fixed_sensor` (sensor -> fixed frame) is mounted upside down when its z axis
+/// points down: scan_points_2d mirrors its scan back.
+inline bool upside_down(const Pose& T_fixed_sensor) {
+  return T_fixed_sensor.linear()(2, 2) < 0;
+}
 
 /// The finite points of `ordered_points` with a range within [config.range_min_m,
 /// config.range_max_m], in their order.
