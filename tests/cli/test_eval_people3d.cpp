@@ -13,8 +13,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
-#include "fieldlidar/core/rotate_points.hpp"
-#include "fieldlidar/io/cloud_file.hpp"
+#include "rotated_copy.hpp"
 #include "run_cli.hpp"
 #include "test_data.hpp"
 
@@ -80,9 +79,7 @@ TEST(CliEvalPeople3d, PitchedSweepsAreLevelledAndTheirPeopleFound) {
   std::filesystem::create_directories(dir / "velodyne");
   for (int i = 0; i < 10; ++i) {
     const std::string name = "000000000" + std::to_string(i) + ".pcd";
-    PointCloud c = io::read_cloud(d / "velodyne" / name);
-    rotate_points(c, R.cast<float>());
-    io::write_cloud(dir / "velodyne" / name, c);
+    test::write_rotated(d / "velodyne" / name, dir / "velodyne" / name, R.cast<float>());
   }
   // Tr_velo_to_cam takes the rotated sweep's points back first: Tr * R^T.
   std::ifstream in(d / "calib.txt");

@@ -13,8 +13,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
-#include "fieldlidar/core/rotate_points.hpp"
-#include "fieldlidar/io/cloud_file.hpp"
+#include "rotated_copy.hpp"
 #include "run_cli.hpp"
 #include "test_data.hpp"
 
@@ -33,9 +32,7 @@ Replay replay(const fs::path& dir, const std::string& tag, const Eigen::Matrix3f
   const fs::path frames = dir / tag, out = dir / (tag + "_out");
   fs::create_directories(frames);
   for (const auto& s : sweeps) {
-    PointCloud c = io::read_cloud(s);
-    rotate_points(c, R);
-    io::write_cloud(frames / s.filename(), c);
+    test::write_rotated(s, frames / s.filename(), R);
   }
   const auto r = test::run_cli("follow --replay " + test::quoted(frames) +
                                " --sensor hdl64e --rate 10 --out " + test::quoted(out));

@@ -11,6 +11,7 @@
 
 #include "fieldlidar/core/rotate_points.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
+#include "rotated_copy.hpp"
 #include "run_cli.hpp"
 #include "test_data.hpp"
 
@@ -19,10 +20,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::size_t legs_in(const fs::path& csv) {
+/// Rows of a `legs --out` CSV of `kind` (leg, person).
+std::size_t rows_of(const fs::path& csv, const std::string& kind) {
   std::ifstream in(csv);
   std::size_t n = 0;
-  for (std::string line; std::getline(in, line);) n += line.find(",leg,") != std::string::npos;
+  for (std::string line; std::getline(in, line);)
+    n += line.find("," + kind + ",") != std::string::npos;
   return n;
 }
 
@@ -43,7 +46,7 @@ TEST(CliLegsTilted, TiltedOrUpsideDownSweepIsLevelledBeforeItsLegs) {
     EXPECT_EQ(r.output.find("is tilted") != std::string::npos, tag != "level") << r.output;
     EXPECT_EQ(r.output.find("(upside down)") != std::string::npos, tag == "upside_down")
         << r.output;
-    return legs_in(dir / (tag + ".csv"));
+    return rows_of(dir / (tag + ".csv"), "leg");
   };
   const std::size_t flat = legs_of("level", Eigen::Matrix3f::Identity());
   ASSERT_GE(flat, 50u);  // 76 measured
@@ -54,13 +57,6 @@ TEST(CliLegsTilted, TiltedOrUpsideDownSweepIsLevelledBeforeItsLegs) {
       "upside_down", Eigen::AngleAxisf(float(M_PI), Eigen::Vector3f::UnitX()).toRotationMatrix());
   EXPECT_GE(4 * pitched, 3 * flat);
   EXPECT_GE(4 * over, 3 * flat);
-}
-
-std::size_t persons_in(const fs::path& csv) {
-  std::ifstream in(csv);
-  std::size_t n = 0;
-  for (std::string line; std::getline(in, line);) n += line.find(",person,") != std::string::npos;
-  return n;
 }
 
 // The first 12 KITTI sweeps turned over, levelled one by one: the levelled frame keeps the
@@ -75,15 +71,13 @@ TEST(CliLegsTilted, UpsideDownSweepsKeepTheirHeadingAndTheirTracks) {
     fs::create_directories(dir / tag);
     for (int i = 0; i < 12; ++i) {
       const std::string file = (i < 10 ? "000000000" : "00000000") + std::to_string(i) + ".pcd";
-      PointCloud c = io::read_cloud(test::data_file(name) / file);
-      rotate_points(c, R);
-      io::write_cloud(dir / tag / file, c);
+      test::write_rotated(test::data_file(name) / file, dir / tag / file, R);
     }
     const auto r =
         test::run_cli("legs " + test::quoted(dir / tag) + " --sensor hdl64e --rate 10 --out " +
                       test::quoted(dir / (tag + ".csv")));
     EXPECT_EQ(r.exit_code, 0) << r.output;
-    return persons_in(dir / (tag + ".csv"));
+    return rows_of(dir / (tag + ".csv"), "person");
   };
   const std::size_t flat = persons_of("level", Eigen::Matrix3f::Identity());
   ASSERT_GE(flat, 15u);

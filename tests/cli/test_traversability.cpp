@@ -14,6 +14,7 @@
 
 #include "fieldlidar/core/rotate_points.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
+#include "rotated_copy.hpp"
 #include "run_cli.hpp"
 #include "test_data.hpp"
 
@@ -218,9 +219,7 @@ TEST(CliTraversability, SequenceFusedWithPosesRobotConfigAndGeoTiffs) {
   const Eigen::Matrix3f R =
       Eigen::AngleAxisf(float(15.0 * M_PI / 180.0), Eigen::Vector3f::UnitY()).toRotationMatrix();
   for (const auto& e : fs::directory_iterator(sim / "pcd")) {
-    PointCloud c = io::read_cloud(e.path());
-    rotate_points(c, R);
-    io::write_cloud(dir / "pitched" / "pcd" / e.path().filename(), c);
+    write_rotated(e.path(), dir / "pitched" / "pcd" / e.path().filename(), R);
   }
   fs::copy_file(sim / "times.txt", dir / "pitched" / "times.txt");
   const auto p = run_cli(

@@ -17,6 +17,7 @@
 #include "fieldlidar/core/rotate_points.hpp"
 #include "fieldlidar/io/cloud_file.hpp"
 #include "fieldlidar/io/trajectory_io.hpp"
+#include "rotated_copy.hpp"
 #include "run_cli.hpp"
 #include "test_data.hpp"
 
@@ -142,9 +143,7 @@ TEST(CliTrunks, TiltedMountSequenceIsLevelledByItsFirstScan) {
   const Eigen::Matrix3d R =
       Eigen::AngleAxisd(15.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
   for (const auto& e : std::filesystem::directory_iterator(dir / "sim" / "pcd")) {
-    PointCloud c = io::read_cloud(e.path());
-    rotate_points(c, R.cast<float>());
-    io::write_cloud(tilted / "pcd" / e.path().filename(), c);
+    write_rotated(e.path(), tilted / "pcd" / e.path().filename(), R.cast<float>());
   }
   std::filesystem::copy_file(dir / "sim" / "times.txt", tilted / "times.txt");
   Trajectory turned;
